@@ -1,0 +1,50 @@
+// The OpenCL runtime behind clvis::Device: the context, device, default queue and program cache,
+// and the translation of OpenCL errors into clvis::Error with the call's and the code's names.
+#pragma once
+
+#include "cl.hpp"
+
+#include <clvis/device.hpp>
+#include <clvis/error.hpp>
+
+#include <map>
+#include <mutex>
+#include <string>
+
+namespace clvis::detail {
+
+/// "CL_OUT_OF_RESOURCES" for -5, ..., "CL_UNKNOWN_ERROR(-1234)" otherwise.
+std::string cl_error_name(cl_int code);
+
+/// Throws Error(Device): "<what>: <CL call> failed with <CL_ERROR_NAME>".
+[[noreturn]] void throw_cl_error(const cl::Error& e, const std::string& what);
+
+} // namespace clvis::detail
+
+namespace clvis {
+
+struct Device::Impl {
+    cl::Context context;
+    cl::Device device;
+    cl::CommandQueue queue; ///< the wrapped queue, or one made by open()
+    bool wrapped = false;
+    DeviceInfo info;
+
+    /// The built program of kernels/<name>.cl with `options` added to the standard options
+    /// (-cl-std=CL1.2, correctly rounded division where the device offers it). Built once per
+    /// (name, options) and kept; on drivers that do not cache programs themselves, binaries are
+    /// also kept on disk keyed by device, driver, options and source hash. Thread-safe.
+    /// Throws Error(Build) carrying the build log.
+    cl::Program program(const std::string& name, const std::string& options = {});
+
+    /// A new in-order queue with profiling on, or the wrapped queue.
+    cl::CommandQueue make_queue();
+
+    /// Throws Error(Limit) naming `what` when `bytes` exceeds the largest allocation.
+    void check_allocation(std::uint64_t bytes, const std::string& what) const;
+
+    std::mutex mutex; ///< guards programs and the default queue's host reads
+    std::map<std::string, cl::Program> programs;
+};
+
+} // namespace clvis

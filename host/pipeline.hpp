@@ -1,0 +1,95 @@
+// The seam between the Renderer and the two paths: what is resident on the device for a scene,
+// what one frame needs, and how stages report their device time. Both paths write the same
+// visibility buffer (kernels/shared/visibility.h) and know nothing of each other.
+#pragma once
+
+#include "cl.hpp"
+
+#include "shared/camera.h"
+
+#include <clvis/camera.hpp>
+#include <clvis/renderer.hpp>
+#include <clvis/scene.hpp>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace clvis::detail {
+
+/// The scene as uploaded once and shared by both paths.
+struct DeviceScene {
+    cl::Buffer positions;       ///< float x, y, z per vertex, world space, packed (vload3)
+    cl::Buffer indices;         ///< uint, 3 per triangle, in id order
+    cl::Buffer normals;         ///< float x, y, z per vertex, or a 1-element dummy when none
+    bool has_normals = false;
+    std::uint32_t triangle_count = 0;
+    std::uint32_t vertex_count = 0;
+};
+
+/// Collects the profiling events of a frame's kernels by stage name.
+class StageRecorder {
+public:
+    /// Records `event` under `stage` (stages keep the order of their first event).
+    void add(const std::string& stage, const cl::Event& event);
+    /// Device time per stage in ms (end of last event - start of first, per stage), then clears.
+    std::vector<StageTiming> collect();
+
+private:
+    std::vector<std::pair<std::string, cl::Event>> events_;
+};
+
+/// One frame's inputs.
+struct Frame {
+    cl::CommandQueue queue;
+    const Camera* camera = nullptr;  ///< double-precision camera, validated
+    clvis_camera_gpu gpu_camera{};   ///< the same in float32 for the kernels
+    cl::Buffer keys;                 ///< width * height keys, row 0 on top
+    int width = 0, height = 0;
+    StageRecorder* stages = nullptr;
+};
+
+/// Converts a validated camera for a width x height image.
+clvis_camera_gpu make_gpu_camera(const Camera& camera, int width, int height);
+
+/// Enqueues the clear of frame.keys to the background key (stage "clear").
+void clear_keys(Device::Impl& device, Frame& frame);
+
+/// A 1-D or 2-D global size rounded up to a multiple of the local size.
+inline std::size_t round_up(std::size_t n, std::size_t multiple) { return (n + multiple - 1) / multiple * multiple; }
+
+class RasterPipeline {
+public:
+    RasterPipeline(Device::Impl& device, const RenderOptions& options);
+    ~RasterPipeline();
+    /// Enqueues every kernel of the raster path for `frame` (the clear included) and returns
+    /// without waiting; the Renderer waits and collects the stage times.
+    void render(const DeviceScene& scene, Frame& frame);
+
+    struct Impl;
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+class RayPipeline {
+public:
+    RayPipeline(Device::Impl& device, const RenderOptions& options);
+    ~RayPipeline();
+    /// Builds the BVH of `scene` on the host and uploads it.
+    void build(const Scene& scene, cl::CommandQueue& queue);
+    /// Follows changed positions: refit or rebuild as options.bvh.update says.
+    void update(const Scene& scene, cl::CommandQueue& queue);
+    bool built() const;
+    const BvhStats& stats() const;
+    /// Enqueues the trace of one ray per pixel centre (through the BVH, or against every
+    /// triangle when `brute`) writing every key of frame.keys.
+    void render(const DeviceScene& scene, Frame& frame, bool brute);
+
+    struct Impl;
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace clvis::detail

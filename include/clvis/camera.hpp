@@ -1,0 +1,84 @@
+// The camera of CONVENTIONS.md: a look-at frame (the camera looks down -z), perspective with a
+// vertical field of view or orthographic with a view height, near and far view depths, and raster
+// space with row 0 on top, sampled at pixel centres. The same projection is compiled into the
+// kernels from kernels/shared/camera.h; these double-precision functions define the answer.
+#pragma once
+
+#include <clvis/math.hpp>
+
+#include <string>
+
+namespace clvis {
+
+enum class Projection { Perspective, Orthographic };
+
+/// How a film gate whose aspect differs from the image's is reconciled with it.
+enum class FilmFit {
+    Fill,     ///< the film gate fills the image: the image shows part of it
+    Overscan, ///< the whole film gate is inside the image: the image shows more
+};
+
+struct CameraFrame {
+    Vec3 r, u, f; ///< right, up, forward (unit vectors); camera space is (r, u, -f)
+};
+
+struct Canvas {
+    double right = 0, top = 0; ///< half extents at unit distance (perspective) or in world units
+};
+
+struct Ray {
+    Vec3 origin, direction; ///< direction unnormalised: t of a hit is its view depth
+};
+
+struct Camera {
+    Vec3 eye{0, 0, 0};
+    Vec3 target{0, 0, -1};
+    Vec3 up{0, 1, 0};
+    Projection projection = Projection::Perspective;
+    double fov_y = 45;        ///< vertical field of view in degrees, in (0, 180), perspective only
+    double ortho_height = 2;  ///< world units, > 0, orthographic only
+    double near = 0.1;        ///< view depth, > 0
+    double far = 1000;        ///< view depth, > near
+
+    static Camera perspective(Vec3 eye, Vec3 target, Vec3 up, double fov_y_degrees, double near,
+                              double far);
+    static Camera orthographic(Vec3 eye, Vec3 target, Vec3 up, double height, double near,
+                               double far);
+    /// The physical camera: a focal length and a film gate (aperture in mm) give the field of
+    /// view; `fit` reconciles the gate's aspect with the image's `aspect` (width / height).
+    static Camera physical(Vec3 eye, Vec3 target, Vec3 up, double focal_length_mm,
+                           double gate_width_mm, double gate_height_mm, FilmFit fit,
+                           double aspect, double near, double far);
+    /// The framing camera of CONVENTIONS.md for a scene's bounds: looks at the box's centre from
+    /// direction (0.3, 0.4, 1) at the distance where the bounding sphere touches the vertical
+    /// field of view (45 degrees), or with an orthographic camera of height 2R at distance 2R.
+    static Camera framing(const Bounds& scene_bounds, Projection projection = Projection::Perspective);
+
+    /// Throws Error(InvalidArgument) naming the first bad field: non-finite values, eye equal
+    /// to target, up parallel to the view direction, near <= 0, far <= near, fov outside
+    /// (0, 180), ortho height <= 0.
+    void validate() const;
+
+    CameraFrame frame() const;
+    Canvas canvas(double aspect) const;
+
+    /// World -> camera space (x right, y up, z backwards: visible points have z < 0).
+    Vec3 to_camera(Vec3 world) const;
+    /// Camera space -> raster space of a width x height image; z of the result is the view depth.
+    Vec3 camera_to_raster(Vec3 camera_point, int width, int height) const;
+    /// World -> raster (x, y in pixels, z = view depth).
+    Vec3 to_raster(Vec3 world, int width, int height) const;
+    /// The primary ray through raster position (x, y): pixel (i, j) is sampled at (i+.5, j+.5).
+    Ray primary_ray(double x, double y, int width, int height) const;
+
+    /// Row-major view matrix (world -> camera space), OpenGL's gluLookAt.
+    Mat4 view_matrix() const;
+    /// Row-major OpenGL projection matrix (glFrustum / glOrtho) for this camera, with near and
+    /// far mapped to NDC z = -1 and +1. ndc = (P v).xy / (P v).w equals to_raster's NDC.
+    Mat4 projection_matrix(double aspect) const;
+
+    /// The command-line flags that reproduce this camera (--eye ... --near ... --far ...).
+    std::string to_flags() const;
+};
+
+} // namespace clvis

@@ -1,0 +1,20 @@
+// clvis: visibility by rasterization and by ray casting on OpenCL. The umbrella header.
+#pragma once
+
+#include <clvis/config.hpp>
+
+#include <clvis/camera.hpp>
+#include <clvis/device.hpp>
+#include <clvis/error.hpp>
+#include <clvis/math.hpp>
+#include <clvis/procedural.hpp>
+#include <clvis/referee.hpp>
+#include <clvis/renderer.hpp>
+#include <clvis/scene.hpp>
+#include <clvis/scene_io.hpp>
+#include <clvis/shading.hpp>
+#include <clvis/version.hpp>
+#include <clvis/visibility.hpp>
+#if CLVIS_WITH_IMAGE_IO
+#include <clvis/image_io.hpp>
+#endif

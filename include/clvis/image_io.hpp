@@ -1,0 +1,26 @@
+// Image files, through OpenImageIO (the clvis::image layer). Id buffers are one UINT32 channel
+// named "id" in TIFF or OpenEXR, never passed through float; depth buffers one FLOAT channel "Z"
+// in OpenEXR; colour images PNG or EXR. Row 0 is the top row in every file.
+#pragma once
+
+#include <clvis/shading.hpp>
+#include <clvis/visibility.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace clvis {
+
+/// Writes the ids of `vis` (.tif, .tiff or .exr). Throws Error(Io) naming the file.
+void write_ids(const std::string& path, const HostVisibility& vis);
+/// Writes the depths of `vis` (.exr).
+void write_depth(const std::string& path, const HostVisibility& vis);
+/// Reads an id buffer: fills width, height and ids (depth left empty).
+HostVisibility read_ids(const std::string& path);
+/// Reads a depth buffer into `vis.depth` (width and height must match when already set).
+void read_depth(const std::string& path, HostVisibility& vis);
+/// Writes a colour image (.png, .exr, or anything OpenImageIO writes).
+void write_image(const std::string& path, const Image& image);
+
+} // namespace clvis

@@ -1,0 +1,84 @@
+// Scenes: meshes of triangles, concatenated in the order they are added, each with an optional
+// 4x4 transform. Triangle ids follow CONVENTIONS.md: mesh after mesh, faces in file order,
+// polygons fanned (v0, vk, vk+1), nothing reordered, merged or dropped. A Scene lives on the
+// host; a Renderer uploads it.
+#pragma once
+
+#include <clvis/math.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace clvis {
+
+/// The background id of every id buffer (no triangle at that sample).
+constexpr std::uint32_t background_id = 0xFFFFFFFFu;
+/// The most triangles a scene may hold: ids are 32-bit and background_id is reserved.
+constexpr std::uint64_t max_triangles = 0xFFFFFFFFull;
+
+/// One mesh as plain arrays: positions x,y,z per vertex, three indices per triangle.
+struct MeshData {
+    std::string name;               ///< for messages (a file name, "sphere", ...)
+    std::vector<float> positions;   ///< 3 floats per vertex
+    std::vector<std::uint32_t> indices; ///< 3 per triangle, each < vertex count
+    std::vector<float> normals;     ///< optional: 3 floats per vertex, or empty
+
+    std::size_t vertex_count() const { return positions.size() / 3; }
+    std::size_t triangle_count() const { return indices.size() / 3; }
+};
+
+class Scene {
+public:
+    struct Mesh {
+        MeshData data;
+        Mat4 transform;                 ///< object -> world, applied to positions only
+        std::uint32_t first_triangle = 0; ///< id of this mesh's first triangle
+        std::uint64_t revision = 0;     ///< bumped on every change of positions or transform
+    };
+
+    /// Adds a mesh and returns its index. Throws Error(InvalidArgument) naming the mesh and the
+    /// element for an index out of range, a non-finite position, a size that is not a multiple
+    /// of 3, or a transform that is not affine or not finite; Error(Limit) past max_triangles.
+    std::size_t add_mesh(MeshData mesh, const Mat4& transform = Mat4::identity());
+    /// The same from spans of memory (copied).
+    std::size_t add_mesh(const float* positions, std::size_t vertex_count,
+                         const std::uint32_t* indices, std::size_t triangle_count,
+                         const Mat4& transform = Mat4::identity(), std::string name = {});
+
+    /// Replaces the positions of mesh `mesh` (same vertex count): animation. Renderers that
+    /// were made from this scene pick the change up with Renderer::update().
+    void set_positions(std::size_t mesh, const float* positions, std::size_t vertex_count);
+    void set_transform(std::size_t mesh, const Mat4& transform);
+
+    const std::vector<Mesh>& meshes() const { return meshes_; }
+    std::size_t triangle_count() const { return triangle_count_; }
+    std::size_t vertex_count() const { return vertex_count_; }
+    bool empty() const { return triangle_count_ == 0; }
+
+    /// World-space bounds of every vertex referenced or not (transforms applied).
+    Bounds bounds() const;
+
+    /// World-space positions of every vertex, meshes concatenated (float32, transforms applied
+    /// in double and rounded once). Computed on demand and cached until the next change.
+    const std::vector<float>& world_positions() const;
+    /// Indices into world_positions(), 3 per triangle, in id order.
+    const std::vector<std::uint32_t>& world_indices() const;
+    /// The world-space vertices of triangle `id` (9 floats).
+    void triangle(std::uint32_t id, float out[9]) const;
+    /// Which mesh holds triangle `id`.
+    std::size_t mesh_of(std::uint32_t id) const;
+
+private:
+    void invalidate();
+
+    std::vector<Mesh> meshes_;
+    std::size_t triangle_count_ = 0;
+    std::size_t vertex_count_ = 0;
+    mutable std::vector<float> world_positions_;
+    mutable std::vector<std::uint32_t> world_indices_;
+    mutable bool world_valid_ = false;
+};
+
+} // namespace clvis

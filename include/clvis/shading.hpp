@@ -1,0 +1,35 @@
+// Shading: a kernel over a visibility buffer turns ids and depths into a colour image. It knows
+// nothing of how the buffer was made.
+#pragma once
+
+#include <clvis/camera.hpp>
+#include <clvis/renderer.hpp>
+#include <clvis/visibility.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace clvis {
+
+enum class ShadeMode {
+    Lambert,   ///< facing ratio / Lambert with a directional light; smooth where normals exist
+    Depth,     ///< view depth, near white to far black
+    Ids,       ///< a false colour per triangle id
+};
+
+/// An RGBA image of 8-bit channels, row 0 on top.
+struct Image {
+    int width = 0, height = 0;
+    std::vector<std::uint8_t> rgba; ///< 4 bytes per pixel
+};
+
+struct ShadeOptions {
+    ShadeMode mode = ShadeMode::Lambert;
+    Vec3 light_direction{-0.4, -0.6, -1.0}; ///< world space, towards which light travels
+};
+
+/// Shades `vis` (made by `renderer` with `camera`) on the device.
+Image shade(Renderer& renderer, const VisibilityBuffer& vis, const Camera& camera,
+            const ShadeOptions& options = {});
+
+} // namespace clvis

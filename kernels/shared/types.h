@@ -1,0 +1,29 @@
+/* Scalar types and bit casts that OpenCL C and C++17 both accept, so kernels/shared/*.h compile
+   unchanged on the device and on the host (host tests check the code the kernels run). */
+#ifndef CLVIS_SHARED_TYPES_H
+#define CLVIS_SHARED_TYPES_H
+
+#ifdef __OPENCL_C_VERSION__
+#pragma OPENCL FP_CONTRACT OFF
+typedef uint clvis_u32;
+typedef int clvis_i32;
+typedef ulong clvis_u64;
+typedef long clvis_i64;
+static inline clvis_u32 clvis_float_bits(float f) { return as_uint(f); }
+static inline float clvis_bits_float(clvis_u32 u) { return as_float(u); }
+#else
+#include <cstdint>
+#include <cstring>
+typedef std::uint32_t clvis_u32;
+typedef std::int32_t clvis_i32;
+typedef std::uint64_t clvis_u64;
+typedef std::int64_t clvis_i64;
+static inline clvis_u32 clvis_float_bits(float f) { clvis_u32 u; std::memcpy(&u, &f, 4); return u; }
+static inline float clvis_bits_float(clvis_u32 u) { float f; std::memcpy(&f, &u, 4); return f; }
+#endif
+
+/* Own vector structs: OpenCL's float3 is 16 bytes and C++ has none. */
+typedef struct { float x, y; } clvis_vec2;
+typedef struct { float x, y, z; } clvis_vec3;
+
+#endif

@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Installs everything clvis needs from Debian 12's packages. Idempotent; run as root.
+set -euo pipefail
+
+packages=(
+  # toolchain
+  build-essential cmake ninja-build pkg-config git ca-certificates python3
+  # OpenCL: the ICD loader, headers, C++ bindings and PoCL's CPU device
+  ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
+  # libraries
+  libopenimageio-dev openimageio-tools catch2 libcli11-dev nlohmann-json3-dev
+  # reference renderers for the benchmark: Embree and Mesa's llvmpipe through EGL
+  libembree-dev libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
+  # plots
+  python3-matplotlib
+  # hardening: Oclgrind, clang's sanitizers and libFuzzer, malformed test files
+  oclgrind clang libclang-rt-14-dev assimp-testmodels valgrind
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "[setup] installing: ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+echo "[setup] dependencies present"
