@@ -52,8 +52,11 @@ struct Frame {
 /// Converts a validated camera for a width x height image.
 clvis_camera_gpu make_gpu_camera(const Camera& camera, int width, int height);
 
+/// The kernel that clears keys to the background (kernels/visibility_clear.cl); make one per
+/// pipeline, since cl::Kernel arguments are not safe to set from two threads.
+cl::Kernel make_clear_kernel(Device::Impl& device);
 /// Enqueues the clear of frame.keys to the background key (stage "clear").
-void clear_keys(Device::Impl& device, Frame& frame);
+void clear_keys(cl::Kernel& clear, Frame& frame);
 
 /// A 1-D or 2-D global size rounded up to a multiple of the local size.
 inline std::size_t round_up(std::size_t n, std::size_t multiple) { return (n + multiple - 1) / multiple * multiple; }

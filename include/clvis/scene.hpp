@@ -72,6 +72,7 @@ public:
 
 private:
     void invalidate();
+    std::size_t mesh_of_vertex(std::size_t vertex) const;
 
     std::vector<Mesh> meshes_;
     std::size_t triangle_count_ = 0;

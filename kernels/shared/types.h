@@ -1,4 +1,4 @@
-/* Scalar types and bit casts that OpenCL C and C++17 both accept, so kernels/shared/*.h compile
+/* Scalar types and bit casts that OpenCL C and C++17 both accept, so the shared headers compile
    unchanged on the device and on the host (host tests check the code the kernels run). */
 #ifndef CLVIS_SHARED_TYPES_H
 #define CLVIS_SHARED_TYPES_H

@@ -1,0 +1,203 @@
+// The double-precision camera of CONVENTIONS.md: validation, the look-at frame, the canvas, the
+// projection to raster space, primary rays, OpenGL matrices, and the framing camera.
+#include <clvis/camera.hpp>
+#include <clvis/error.hpp>
+
+#include <charconv>
+#include <cmath>
+
+namespace clvis {
+
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+
+[[noreturn]] void invalid(const std::string& message)
+{
+    throw Error(Error::Kind::InvalidArgument, "camera: " + message);
+}
+
+std::string number(double v)
+{
+    char buf[64];
+    auto r = std::to_chars(buf, buf + sizeof buf, v); // shortest text that reads back exactly
+    return std::string(buf, r.ptr);
+}
+
+std::string vec(Vec3 v) { return number(v.x) + "," + number(v.y) + "," + number(v.z); }
+
+} // namespace
+
+Camera Camera::perspective(Vec3 eye, Vec3 target, Vec3 up, double fov_y_degrees, double near, double far)
+{
+    Camera c;
+    c.eye = eye; c.target = target; c.up = up;
+    c.projection = Projection::Perspective;
+    c.fov_y = fov_y_degrees;
+    c.near = near; c.far = far;
+    return c;
+}
+
+Camera Camera::orthographic(Vec3 eye, Vec3 target, Vec3 up, double height, double near, double far)
+{
+    Camera c;
+    c.eye = eye; c.target = target; c.up = up;
+    c.projection = Projection::Orthographic;
+    c.ortho_height = height;
+    c.near = near; c.far = far;
+    return c;
+}
+
+Camera Camera::physical(Vec3 eye, Vec3 target, Vec3 up, double focal_length_mm, double gate_width_mm,
+                        double gate_height_mm, FilmFit fit, double aspect, double near, double far)
+{
+    if (!(focal_length_mm > 0) || !std::isfinite(focal_length_mm))
+        invalid("focal length must be a positive number of mm, got " + number(focal_length_mm));
+    if (!(gate_width_mm > 0) || !(gate_height_mm > 0) || !std::isfinite(gate_width_mm) ||
+        !std::isfinite(gate_height_mm))
+        invalid("film gate must be two positive numbers of mm, got " + number(gate_width_mm) + "," +
+                number(gate_height_mm));
+    if (!(aspect > 0) || !std::isfinite(aspect)) invalid("image aspect must be positive, got " + number(aspect));
+    // The gate's half extents at unit distance; the fit scales one of them so that the canvas
+    // takes the image's aspect (Scratchapixel's "Implementing a virtual pinhole camera").
+    double top = gate_height_mm / 2 / focal_length_mm;
+    double film_aspect = gate_width_mm / gate_height_mm;
+    bool wider = film_aspect > aspect;
+    if ((fit == FilmFit::Fill) != wider) top *= film_aspect / aspect;
+    return perspective(eye, target, up, 2 * std::atan(top) * 180 / pi, near, far);
+}
+
+Camera Camera::framing(const Bounds& b, Projection projection)
+{
+    if (b.empty() || !is_finite(b.lo) || !is_finite(b.hi))
+        throw Error(Error::Kind::InvalidArgument, "camera: cannot frame an empty or non-finite scene");
+    Vec3 c = b.center();
+    double radius = length(b.extent()) / 2;
+    double scale = std::fmax(std::fmax(std::fabs(c.x), std::fabs(c.y)), std::fmax(std::fabs(c.z), 1.0));
+    if (!(radius > 1e-9 * scale)) radius = 1e-3 * scale; // a point: frame a small sphere around it
+    Vec3 dir = normalize(Vec3{0.3, 0.4, 1.0});
+    const double fov = 45;
+    if (projection == Projection::Orthographic) {
+        double dist = 2 * radius;
+        return orthographic(c + dir * dist, c, {0, 1, 0}, 2 * radius, 0.9 * (dist - radius),
+                            1.1 * (dist + radius));
+    }
+    double dist = radius / std::sin(fov / 2 * pi / 180);
+    return perspective(c + dir * dist, c, {0, 1, 0}, fov, 0.9 * (dist - radius), 1.1 * (dist + radius));
+}
+
+void Camera::validate() const
+{
+    if (!is_finite(eye)) invalid("eye is not finite (" + vec(eye) + ")");
+    if (!is_finite(target)) invalid("target is not finite (" + vec(target) + ")");
+    if (!is_finite(up)) invalid("up is not finite (" + vec(up) + ")");
+    Vec3 view = target - eye;
+    double view_len = length(view);
+    if (!(view_len > 0)) invalid("eye equals target (" + vec(eye) + ")");
+    double up_len = length(up);
+    if (!(up_len > 0)) invalid("up is the zero vector");
+    Vec3 f = view * (1 / view_len);
+    if (!(length(cross(f, up * (1 / up_len))) > 1e-9))
+        invalid("up (" + vec(up) + ") is parallel to the view direction");
+    if (!std::isfinite(near) || !(near > 0)) invalid("near must be a finite view depth > 0, got " + number(near));
+    if (!std::isfinite(far) || !(far > near))
+        invalid("far must be finite and greater than near (" + number(near) + "), got " + number(far));
+    if (projection == Projection::Perspective) {
+        if (!std::isfinite(fov_y) || !(fov_y > 0 && fov_y < 180))
+            invalid("fov must lie in (0, 180) degrees, got " + number(fov_y));
+    } else if (!std::isfinite(ortho_height) || !(ortho_height > 0)) {
+        invalid("ortho height must be > 0, got " + number(ortho_height));
+    }
+}
+
+CameraFrame Camera::frame() const
+{
+    CameraFrame fr;
+    fr.f = normalize(target - eye);
+    fr.r = normalize(cross(fr.f, up));
+    fr.u = cross(fr.r, fr.f);
+    return fr;
+}
+
+Canvas Camera::canvas(double aspect) const
+{
+    Canvas c;
+    c.top = projection == Projection::Perspective ? std::tan(fov_y / 2 * pi / 180) : ortho_height / 2;
+    c.right = aspect * c.top;
+    return c;
+}
+
+Vec3 Camera::to_camera(Vec3 world) const
+{
+    CameraFrame fr = frame();
+    Vec3 d = world - eye;
+    return {dot(d, fr.r), dot(d, fr.u), -dot(d, fr.f)};
+}
+
+Vec3 Camera::camera_to_raster(Vec3 p, int width, int height) const
+{
+    Canvas cv = canvas(double(width) / height);
+    double sx = p.x, sy = p.y;
+    if (projection == Projection::Perspective) {
+        sx = p.x / -p.z;
+        sy = p.y / -p.z;
+    }
+    return {(sx / cv.right + 1) / 2 * width, (1 - sy / cv.top) / 2 * height, -p.z};
+}
+
+Vec3 Camera::to_raster(Vec3 world, int width, int height) const
+{
+    return camera_to_raster(to_camera(world), width, height);
+}
+
+Ray Camera::primary_ray(double x, double y, int width, int height) const
+{
+    CameraFrame fr = frame();
+    Canvas cv = canvas(double(width) / height);
+    double sx = (2 * x / width - 1) * cv.right;
+    double sy = (1 - 2 * y / height) * cv.top;
+    if (projection == Projection::Orthographic) return {eye + fr.r * sx + fr.u * sy, fr.f};
+    return {eye, fr.r * sx + fr.u * sy + fr.f};
+}
+
+Mat4 Camera::view_matrix() const
+{
+    CameraFrame fr = frame();
+    Mat4 m;
+    Vec3 rows[3] = {fr.r, fr.u, fr.f * -1.0};
+    for (int i = 0; i < 3; ++i) {
+        m(i, 0) = rows[i].x;
+        m(i, 1) = rows[i].y;
+        m(i, 2) = rows[i].z;
+        m(i, 3) = -dot(rows[i], eye);
+    }
+    return m;
+}
+
+Mat4 Camera::projection_matrix(double aspect) const
+{
+    Canvas cv = canvas(aspect);
+    Mat4 m;
+    m(0, 0) = 1 / cv.right;
+    m(1, 1) = 1 / cv.top;
+    if (projection == Projection::Perspective) {
+        m(2, 2) = -(far + near) / (far - near);
+        m(2, 3) = -2 * far * near / (far - near);
+        m(3, 2) = -1;
+        m(3, 3) = 0;
+    } else {
+        m(2, 2) = -2 / (far - near);
+        m(2, 3) = -(far + near) / (far - near);
+    }
+    return m;
+}
+
+std::string Camera::to_flags() const
+{
+    std::string s = "--eye " + vec(eye) + " --target " + vec(target) + " --up " + vec(up);
+    if (projection == Projection::Perspective) s += " --fov " + number(fov_y);
+    else s += " --ortho " + number(ortho_height);
+    return s + " --near " + number(near) + " --far " + number(far);
+}
+
+} // namespace clvis

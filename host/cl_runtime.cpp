@@ -1,0 +1,425 @@
+// OpenCL platforms and devices: listing, selection by spec, wrapping a caller's context, the
+// program cache (in memory, and on disk for drivers that do not cache binaries themselves), and
+// the translation of OpenCL errors into clvis::Error.
+#include "cl_runtime.hpp"
+
+#include "embedded_kernels.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+
+namespace clvis::detail {
+
+std::string cl_error_name(cl_int code)
+{
+    switch (code) {
+#define CLVIS_CASE(name) case name: return #name;
+        CLVIS_CASE(CL_SUCCESS)
+        CLVIS_CASE(CL_DEVICE_NOT_FOUND)
+        CLVIS_CASE(CL_DEVICE_NOT_AVAILABLE)
+        CLVIS_CASE(CL_COMPILER_NOT_AVAILABLE)
+        CLVIS_CASE(CL_MEM_OBJECT_ALLOCATION_FAILURE)
+        CLVIS_CASE(CL_OUT_OF_RESOURCES)
+        CLVIS_CASE(CL_OUT_OF_HOST_MEMORY)
+        CLVIS_CASE(CL_PROFILING_INFO_NOT_AVAILABLE)
+        CLVIS_CASE(CL_MEM_COPY_OVERLAP)
+        CLVIS_CASE(CL_IMAGE_FORMAT_MISMATCH)
+        CLVIS_CASE(CL_IMAGE_FORMAT_NOT_SUPPORTED)
+        CLVIS_CASE(CL_BUILD_PROGRAM_FAILURE)
+        CLVIS_CASE(CL_MAP_FAILURE)
+        CLVIS_CASE(CL_MISALIGNED_SUB_BUFFER_OFFSET)
+        CLVIS_CASE(CL_EXEC_STATUS_ERROR_FOR_EVENTS_IN_WAIT_LIST)
+        CLVIS_CASE(CL_COMPILE_PROGRAM_FAILURE)
+        CLVIS_CASE(CL_LINKER_NOT_AVAILABLE)
+        CLVIS_CASE(CL_LINK_PROGRAM_FAILURE)
+        CLVIS_CASE(CL_DEVICE_PARTITION_FAILED)
+        CLVIS_CASE(CL_KERNEL_ARG_INFO_NOT_AVAILABLE)
+        CLVIS_CASE(CL_INVALID_VALUE)
+        CLVIS_CASE(CL_INVALID_DEVICE_TYPE)
+        CLVIS_CASE(CL_INVALID_PLATFORM)
+        CLVIS_CASE(CL_INVALID_DEVICE)
+        CLVIS_CASE(CL_INVALID_CONTEXT)
+        CLVIS_CASE(CL_INVALID_QUEUE_PROPERTIES)
+        CLVIS_CASE(CL_INVALID_COMMAND_QUEUE)
+        CLVIS_CASE(CL_INVALID_HOST_PTR)
+        CLVIS_CASE(CL_INVALID_MEM_OBJECT)
+        CLVIS_CASE(CL_INVALID_IMAGE_FORMAT_DESCRIPTOR)
+        CLVIS_CASE(CL_INVALID_IMAGE_SIZE)
+        CLVIS_CASE(CL_INVALID_SAMPLER)
+        CLVIS_CASE(CL_INVALID_BINARY)
+        CLVIS_CASE(CL_INVALID_BUILD_OPTIONS)
+        CLVIS_CASE(CL_INVALID_PROGRAM)
+        CLVIS_CASE(CL_INVALID_PROGRAM_EXECUTABLE)
+        CLVIS_CASE(CL_INVALID_KERNEL_NAME)
+        CLVIS_CASE(CL_INVALID_KERNEL_DEFINITION)
+        CLVIS_CASE(CL_INVALID_KERNEL)
+        CLVIS_CASE(CL_INVALID_ARG_INDEX)
+        CLVIS_CASE(CL_INVALID_ARG_VALUE)
+        CLVIS_CASE(CL_INVALID_ARG_SIZE)
+        CLVIS_CASE(CL_INVALID_KERNEL_ARGS)
+        CLVIS_CASE(CL_INVALID_WORK_DIMENSION)
+        CLVIS_CASE(CL_INVALID_WORK_GROUP_SIZE)
+        CLVIS_CASE(CL_INVALID_WORK_ITEM_SIZE)
+        CLVIS_CASE(CL_INVALID_GLOBAL_OFFSET)
+        CLVIS_CASE(CL_INVALID_EVENT_WAIT_LIST)
+        CLVIS_CASE(CL_INVALID_EVENT)
+        CLVIS_CASE(CL_INVALID_OPERATION)
+        CLVIS_CASE(CL_INVALID_GL_OBJECT)
+        CLVIS_CASE(CL_INVALID_BUFFER_SIZE)
+        CLVIS_CASE(CL_INVALID_MIP_LEVEL)
+        CLVIS_CASE(CL_INVALID_GLOBAL_WORK_SIZE)
+        CLVIS_CASE(CL_INVALID_PROPERTY)
+        CLVIS_CASE(CL_INVALID_IMAGE_DESCRIPTOR)
+        CLVIS_CASE(CL_INVALID_COMPILER_OPTIONS)
+        CLVIS_CASE(CL_INVALID_LINKER_OPTIONS)
+        CLVIS_CASE(CL_INVALID_DEVICE_PARTITION_COUNT)
+#undef CLVIS_CASE
+    case -1001: return "CL_PLATFORM_NOT_FOUND_KHR";
+    default: return "CL_UNKNOWN_ERROR(" + std::to_string(code) + ")";
+    }
+}
+
+void throw_cl_error(const cl::Error& e, const std::string& what)
+{
+    throw Error(Error::Kind::Device,
+                what + ": " + e.what() + " failed with " + cl_error_name(e.err()));
+}
+
+const std::string& embedded_kernel(const std::string& name)
+{
+    for (const auto& k : embedded_kernels())
+        if (k.name == name) return k.source;
+    throw Error(Error::Kind::Build, "no embedded kernel named '" + name + "'");
+}
+
+namespace {
+
+const char* no_platform_help =
+    "no OpenCL platform found: install an OpenCL driver and the ICD loader, e.g. on Debian or "
+    "Ubuntu `apt-get install pocl-opencl-icd ocl-icd-libopencl1` for PoCL's CPU device (check "
+    "with `clinfo -l`; OCL_ICD_VENDORS names the folder of .icd files)";
+
+std::vector<cl::Platform> platforms()
+{
+    std::vector<cl::Platform> list;
+    cl_int err = cl::Platform::get(&list);
+    if (err == -1001 /* CL_PLATFORM_NOT_FOUND_KHR */ || list.empty())
+        throw Error(Error::Kind::Device, no_platform_help);
+    if (err != CL_SUCCESS)
+        throw Error(Error::Kind::Device, std::string("clGetPlatformIDs failed with ") + cl_error_name(err));
+    return list;
+}
+
+DeviceType device_type(cl_device_type t)
+{
+    if (t & CL_DEVICE_TYPE_GPU) return DeviceType::Gpu;
+    if (t & CL_DEVICE_TYPE_CPU) return DeviceType::Cpu;
+    if (t & CL_DEVICE_TYPE_ACCELERATOR) return DeviceType::Accelerator;
+    return DeviceType::Other;
+}
+
+DeviceInfo describe(const cl::Platform& platform, const cl::Device& device, std::size_t index)
+{
+    DeviceInfo info;
+    info.index = index;
+    info.platform = platform.getInfo<CL_PLATFORM_NAME>();
+    info.name = device.getInfo<CL_DEVICE_NAME>();
+    info.vendor = device.getInfo<CL_DEVICE_VENDOR>();
+    info.version = device.getInfo<CL_DEVICE_VERSION>();
+    info.driver_version = device.getInfo<CL_DRIVER_VERSION>();
+    info.opencl_c_version = device.getInfo<CL_DEVICE_OPENCL_C_VERSION>();
+    info.type = device_type(device.getInfo<CL_DEVICE_TYPE>());
+    info.compute_units = device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+    info.global_memory = device.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+    info.max_allocation = device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+    info.local_memory = device.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
+    info.max_work_group_size = device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+    std::string ext = device.getInfo<CL_DEVICE_EXTENSIONS>();
+    info.int64_atomics = ext.find("cl_khr_int64_base_atomics") != std::string::npos &&
+                         ext.find("cl_khr_int64_extended_atomics") != std::string::npos;
+    info.fp64 = ext.find("cl_khr_fp64") != std::string::npos;
+    cl_device_fp_config fp = device.getInfo<CL_DEVICE_SINGLE_FP_CONFIG>();
+    info.correctly_rounded_divide_sqrt = (fp & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) != 0;
+    return info;
+}
+
+struct Candidate {
+    cl::Platform platform;
+    cl::Device device;
+    DeviceInfo info;
+};
+
+std::vector<Candidate> candidates()
+{
+    std::vector<Candidate> out;
+    for (auto& p : platforms()) {
+        std::vector<cl::Device> devices;
+        try {
+            p.getDevices(CL_DEVICE_TYPE_ALL, &devices);
+        } catch (const cl::Error& e) {
+            if (e.err() == CL_DEVICE_NOT_FOUND) continue;
+            throw_cl_error(e, "listing the devices of a platform");
+        }
+        for (auto& d : devices) out.push_back({p, d, describe(p, d, out.size())});
+    }
+    return out;
+}
+
+std::string lower(std::string s)
+{
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+    return s;
+}
+
+std::string describe_all(const std::vector<Candidate>& all)
+{
+    std::ostringstream os;
+    for (const auto& c : all)
+        os << "\n  " << c.info.index << ": " << c.info.name << " (" << to_string(c.info.type)
+           << ", " << c.info.platform << ")";
+    return os.str();
+}
+
+const Candidate& pick(const std::vector<Candidate>& all, const std::string& spec_in)
+{
+    if (all.empty()) throw Error(Error::Kind::Device, std::string("no OpenCL device found; ") + no_platform_help);
+    std::string spec = lower(spec_in);
+    if (spec.empty()) {
+        for (auto type : {DeviceType::Gpu, DeviceType::Cpu})
+            for (const auto& c : all)
+                if (c.info.type == type) return c;
+        return all.front();
+    }
+    if (std::all_of(spec.begin(), spec.end(), [](unsigned char ch) { return std::isdigit(ch); })) {
+        std::size_t index = std::stoul(spec);
+        if (index >= all.size())
+            throw Error(Error::Kind::InvalidArgument,
+                        "device index " + spec + " is out of range; devices:" + describe_all(all));
+        return all[index];
+    }
+    for (auto [name, type] : {std::pair{"cpu", DeviceType::Cpu}, {"gpu", DeviceType::Gpu},
+                              {"accelerator", DeviceType::Accelerator}})
+        if (spec == name) {
+            for (const auto& c : all)
+                if (c.info.type == type) return c;
+            throw Error(Error::Kind::Device, "no " + spec + " device; devices:" + describe_all(all));
+        }
+    for (const auto& c : all)
+        if (lower(c.info.name).find(spec) != std::string::npos ||
+            lower(c.info.platform).find(spec) != std::string::npos)
+            return c;
+    throw Error(Error::Kind::Device, "no device matches '" + spec_in + "'; devices:" + describe_all(all));
+}
+
+std::string hex64(std::uint64_t v)
+{
+    std::ostringstream os;
+    os << std::hex << v;
+    return os.str();
+}
+
+/// Drivers that cache compiled programs themselves (PoCL keeps a kernel cache of its own).
+bool driver_caches_programs(const DeviceInfo& info)
+{
+    return info.platform.find("Portable Computing Language") != std::string::npos;
+}
+
+std::filesystem::path binary_cache_dir()
+{
+    if (const char* dir = std::getenv("CLVIS_CACHE_DIR"); dir && *dir) return dir;
+    if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::filesystem::path(xdg) / "clvis";
+    if (const char* home = std::getenv("HOME"); home && *home) return std::filesystem::path(home) / ".cache" / "clvis";
+    return {};
+}
+
+std::string build_log(const cl::Program& program)
+{
+    std::string log;
+    try {
+        for (auto& [dev, text] : program.getBuildInfo<CL_PROGRAM_BUILD_LOG>()) log += text;
+    } catch (const cl::Error&) {
+        // Some drivers report no log for a program that failed before compiling: keep the code.
+    }
+    return log;
+}
+
+} // namespace
+
+} // namespace clvis::detail
+
+namespace clvis {
+
+using namespace detail;
+
+const char* to_string(DeviceType type) noexcept
+{
+    switch (type) {
+    case DeviceType::Cpu: return "cpu";
+    case DeviceType::Gpu: return "gpu";
+    case DeviceType::Accelerator: return "accelerator";
+    case DeviceType::Other: return "other";
+    }
+    return "other";
+}
+
+std::vector<DeviceInfo> list_devices()
+{
+    try {
+        std::vector<DeviceInfo> out;
+        for (auto& c : candidates()) out.push_back(c.info);
+        return out;
+    } catch (const cl::Error& e) {
+        throw_cl_error(e, "listing OpenCL devices");
+    }
+}
+
+Device Device::open(const std::string& spec_in)
+{
+    std::string spec = spec_in;
+    if (spec.empty())
+        if (const char* env = std::getenv("CLVIS_DEVICE")) spec = env;
+    try {
+        auto all = candidates();
+        const Candidate& c = pick(all, spec);
+        auto impl = std::make_shared<Impl>();
+        impl->device = c.device;
+        impl->info = c.info;
+        impl->context = cl::Context(c.device);
+        impl->queue = cl::CommandQueue(impl->context, c.device, CL_QUEUE_PROFILING_ENABLE);
+        return Device(std::move(impl));
+    } catch (const cl::Error& e) {
+        throw_cl_error(e, "opening OpenCL device '" + spec + "'");
+    }
+}
+
+Device Device::wrap(cl_context context, cl_command_queue queue)
+{
+    if (!context || !queue)
+        throw Error(Error::Kind::InvalidArgument, "Device::wrap: context and queue must not be null");
+    try {
+        auto impl = std::make_shared<Impl>();
+        impl->context = cl::Context(context, true);
+        impl->queue = cl::CommandQueue(queue, true);
+        impl->device = impl->queue.getInfo<CL_QUEUE_DEVICE>();
+        if (impl->queue.getInfo<CL_QUEUE_CONTEXT>()() != context)
+            throw Error(Error::Kind::InvalidArgument, "Device::wrap: the queue belongs to another context");
+        if (impl->queue.getInfo<CL_QUEUE_PROPERTIES>() & CL_QUEUE_OUT_OF_ORDER_EXEC_MODE_ENABLE)
+            throw Error(Error::Kind::InvalidArgument, "Device::wrap: the queue must be in-order");
+        cl::Platform platform(impl->device.getInfo<CL_DEVICE_PLATFORM>(), true);
+        impl->info = describe(platform, impl->device, 0);
+        impl->wrapped = true;
+        return Device(std::move(impl));
+    } catch (const cl::Error& e) {
+        throw_cl_error(e, "wrapping a caller's OpenCL context");
+    }
+}
+
+namespace {
+const Device::Impl& checked(const std::shared_ptr<Device::Impl>& impl)
+{
+    if (!impl) throw Error(Error::Kind::InvalidArgument, "use of an empty clvis::Device");
+    return *impl;
+}
+} // namespace
+
+const DeviceInfo& Device::info() const { return checked(impl_).info; }
+cl_context Device::context() const { return checked(impl_).context(); }
+cl_device_id Device::id() const { return checked(impl_).device(); }
+cl_command_queue Device::queue() const { return checked(impl_).queue(); }
+
+cl::CommandQueue Device::Impl::make_queue()
+{
+    if (wrapped) return queue;
+    try {
+        return cl::CommandQueue(context, device, CL_QUEUE_PROFILING_ENABLE);
+    } catch (const cl::Error& e) {
+        throw_cl_error(e, "creating a command queue on " + info.name);
+    }
+}
+
+void Device::Impl::check_allocation(std::uint64_t bytes, const std::string& what) const
+{
+    if (bytes > info.max_allocation)
+        throw Error(Error::Kind::Limit,
+                    what + " needs " + std::to_string(bytes) + " bytes, more than the largest buffer " +
+                        info.name + " can allocate (" + std::to_string(info.max_allocation) + " bytes)");
+}
+
+cl::Program Device::Impl::program(const std::string& name, const std::string& extra)
+{
+    std::string options = "-cl-std=CL1.2";
+    if (info.correctly_rounded_divide_sqrt) options += " -cl-fp32-correctly-rounded-divide-sqrt";
+    if (!extra.empty()) options += " " + extra;
+
+    std::lock_guard<std::mutex> lock(mutex);
+    std::string key = name + "\n" + options;
+    if (auto it = programs.find(key); it != programs.end()) return it->second;
+
+    const std::string& source = embedded_kernel(name);
+    std::string hash = hex64(std::hash<std::string>{}(source + "\n" + options + "\n" + info.name +
+                                                      "\n" + info.driver_version + "\n" + info.platform));
+    std::filesystem::path cache_file;
+    if (!driver_caches_programs(info)) {
+        std::filesystem::path dir = binary_cache_dir();
+        if (!dir.empty()) cache_file = dir / (name + "-" + hash + ".bin");
+    }
+
+    cl::Program program;
+    bool from_binary = false;
+    if (!cache_file.empty()) {
+        std::ifstream in(cache_file, std::ios::binary);
+        if (in) {
+            std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), {});
+            try {
+                program = cl::Program(context, {device}, cl::Program::Binaries{bytes});
+                program.build({device}, options.c_str());
+                from_binary = true;
+            } catch (const cl::Error&) {
+                from_binary = false; // a stale or foreign binary: rebuild from source below
+            }
+        }
+    }
+    if (!from_binary) {
+        try {
+            program = cl::Program(context, source);
+            program.build({device}, options.c_str());
+        } catch (const cl::BuildError& e) {
+            std::string log;
+            for (auto& [dev, text] : e.getBuildLog()) log += text;
+            throw Error(Error::Kind::Build, cl_error_name(e.err()) + " building kernels/" + name +
+                                                ".cl for " + info.name + " with '" + options + "':\n" + log);
+        } catch (const cl::Error& e) {
+            std::string log = build_log(program);
+            throw Error(Error::Kind::Build, cl_error_name(e.err()) + " building kernels/" + name +
+                                                ".cl for " + info.name + " with '" + options + "'" +
+                                                (log.empty() ? "" : ":\n" + log));
+        }
+        if (!cache_file.empty()) {
+            try {
+                auto binaries = program.getInfo<CL_PROGRAM_BINARIES>();
+                std::error_code ec;
+                std::filesystem::create_directories(cache_file.parent_path(), ec);
+                std::filesystem::path tmp = cache_file;
+                tmp += ".tmp";
+                std::ofstream out(tmp, std::ios::binary);
+                if (out && !binaries.empty()) {
+                    out.write(reinterpret_cast<const char*>(binaries[0].data()), binaries[0].size());
+                    out.close();
+                    std::filesystem::rename(tmp, cache_file, ec);
+                }
+            } catch (const cl::Error&) {
+                // The on-disk cache is an optimisation: a driver that will not hand out its
+                // binary simply builds from source next time.
+            }
+        }
+    }
+    programs.emplace(key, program);
+    return program;
+}
+
+} // namespace clvis

@@ -1,0 +1,35 @@
+// clvis devices: what OpenCL devices are there, and what they offer that clvis needs.
+#include "commands.hpp"
+
+#include <clvis/clvis.hpp>
+
+#include <cstdio>
+#include <iostream>
+
+namespace clvis::cli {
+
+void add_devices_command(CLI::App& app)
+{
+    auto* cmd = app.add_subcommand("devices", "List the OpenCL devices (the index is what --device takes).\n"
+                                              "Example: clvis devices");
+    cmd->callback([] {
+        auto devices = list_devices();
+        Device chosen = Device::open();
+        for (const auto& d : devices) {
+            bool is_default = d.name == chosen.info().name && d.platform == chosen.info().platform;
+            std::printf("%zu%s %s\n", d.index, is_default ? "*" : " ", d.name.c_str());
+            std::printf("    platform        %s\n", d.platform.c_str());
+            std::printf("    type            %s, %u compute units\n", to_string(d.type), d.compute_units);
+            std::printf("    memory          %.0f MiB global, %.0f MiB largest buffer, %.0f KiB local\n",
+                        d.global_memory / 1048576.0, d.max_allocation / 1048576.0, d.local_memory / 1024.0);
+            std::printf("    version         %s; driver %s; %s\n", d.version.c_str(), d.driver_version.c_str(),
+                        d.opencl_c_version.c_str());
+            std::printf("    64-bit atomics  %s\n", d.int64_atomics ? "yes (the raster path can run)" : "no");
+            std::printf("    fp64            %s\n", d.fp64 ? "yes" : "no");
+        }
+        std::printf("* the device clvis picks by default%s\n",
+                    std::getenv("CLVIS_DEVICE") ? " (CLVIS_DEVICE is set)" : " (first GPU, else first CPU)");
+    });
+}
+
+} // namespace clvis::cli

@@ -1,0 +1,81 @@
+// What every path shares for a frame: the float32 camera for the kernels, the clear of the
+// visibility buffer, and the stage timings from profiling events.
+#include "pipeline.hpp"
+
+#include "cl_runtime.hpp"
+
+#include <algorithm>
+
+namespace clvis::detail {
+
+clvis_camera_gpu make_gpu_camera(const Camera& camera, int width, int height)
+{
+    CameraFrame fr = camera.frame();
+    Canvas cv = camera.canvas(double(width) / height);
+    clvis_camera_gpu g{};
+    g.eye_x = float(camera.eye.x); g.eye_y = float(camera.eye.y); g.eye_z = float(camera.eye.z);
+    g.near_d = float(camera.near);
+    g.far_d = float(camera.far);
+    g.r_x = float(fr.r.x); g.r_y = float(fr.r.y); g.r_z = float(fr.r.z);
+    g.u_x = float(fr.u.x); g.u_y = float(fr.u.y); g.u_z = float(fr.u.z);
+    g.f_x = float(fr.f.x); g.f_y = float(fr.f.y); g.f_z = float(fr.f.z);
+    g.right = float(cv.right);
+    g.top = float(cv.top);
+    g.width = width;
+    g.height = height;
+    g.ortho = camera.projection == Projection::Orthographic ? 1 : 0;
+    return g;
+}
+
+static_assert(sizeof(clvis_camera_gpu) == 80, "layout shared with kernels/shared/camera.h");
+
+cl::Kernel make_clear_kernel(Device::Impl& device)
+{
+    return cl::Kernel(device.program("visibility_clear"), "visibility_clear");
+}
+
+void clear_keys(cl::Kernel& clear, Frame& frame)
+{
+    cl_uint count = cl_uint(std::size_t(frame.width) * frame.height);
+    clear.setArg(0, frame.keys);
+    clear.setArg(1, count);
+    cl::Event done;
+    frame.queue.enqueueNDRangeKernel(clear, cl::NullRange, cl::NDRange(round_up(count, 256)), cl::NDRange(256),
+                                     nullptr, &done);
+    frame.stages->add("clear", done);
+}
+
+void StageRecorder::add(const std::string& stage, const cl::Event& event) { events_.emplace_back(stage, event); }
+
+std::vector<StageTiming> StageRecorder::collect()
+{
+    std::vector<std::string> order;
+    std::vector<std::pair<cl_ulong, cl_ulong>> spans;
+    for (auto& [name, event] : events_) {
+        cl_ulong start = 0, end = 0;
+        try {
+            start = event.getProfilingInfo<CL_PROFILING_COMMAND_START>();
+            end = event.getProfilingInfo<CL_PROFILING_COMMAND_END>();
+        } catch (const cl::Error&) {
+            // A wrapped queue made without profiling: stage times are not available.
+            events_.clear();
+            return {};
+        }
+        auto it = std::find(order.begin(), order.end(), name);
+        if (it == order.end()) {
+            order.push_back(name);
+            spans.emplace_back(start, end);
+        } else {
+            auto& s = spans[std::size_t(it - order.begin())];
+            s.first = std::min(s.first, start);
+            s.second = std::max(s.second, end);
+        }
+    }
+    events_.clear();
+    std::vector<StageTiming> out;
+    for (std::size_t i = 0; i < order.size(); ++i)
+        out.push_back({order[i], double(spans[i].second - spans[i].first) * 1e-6});
+    return out;
+}
+
+} // namespace clvis::detail

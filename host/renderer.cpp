@@ -1,0 +1,234 @@
+// The Renderer: uploads the scene once, keeps it (and the BVH) resident, validates each frame's
+// request, dispatches the chosen path and times it. Paths live in raster_pipeline.cpp and
+// ray_pipeline.cpp behind host/pipeline.hpp.
+#include "renderer_impl.hpp"
+
+#include <clvis/renderer.hpp>
+
+#include <chrono>
+
+namespace clvis {
+
+using namespace detail;
+
+const char* to_string(Path path) noexcept
+{
+    switch (path) {
+    case Path::Raster: return "raster";
+    case Path::Ray: return "ray";
+    case Path::Brute: return "brute";
+    }
+    return "unknown";
+}
+
+Path path_from_string(const std::string& name)
+{
+    for (Path p : {Path::Raster, Path::Ray, Path::Brute})
+        if (name == to_string(p)) return p;
+    throw Error(Error::Kind::InvalidArgument, "unknown path '" + name + "' (raster, ray or brute)");
+}
+
+namespace {
+
+void check_options(const RenderOptions& o)
+{
+    if (o.tile_size != 0 && (o.tile_size < 4 || o.tile_size > 256 || (o.tile_size & (o.tile_size - 1))))
+        throw Error(Error::Kind::InvalidArgument,
+                    "tile size must be a power of two in [4, 256] (or 0 for the default), got " +
+                        std::to_string(o.tile_size));
+    if (o.bvh.max_leaf_size < 1 || o.bvh.max_leaf_size > 64)
+        throw Error(Error::Kind::InvalidArgument,
+                    "BVH leaf size must lie in [1, 64], got " + std::to_string(o.bvh.max_leaf_size));
+    if (o.bvh.sah_bins < 2 || o.bvh.sah_bins > 256)
+        throw Error(Error::Kind::InvalidArgument,
+                    "BVH SAH bins must lie in [2, 256], got " + std::to_string(o.bvh.sah_bins));
+}
+
+/// World-space vertex normals (inverse transpose of each mesh's linear part), zero where a mesh
+/// has none: shading then falls back to the triangle's flat normal.
+std::vector<float> world_normals(const Scene& scene)
+{
+    std::vector<float> out(scene.vertex_count() * 3, 0.0f);
+    std::size_t v = 0;
+    for (const auto& m : scene.meshes()) {
+        const auto& n = m.data.normals;
+        if (!n.empty()) {
+            const Mat4& t = m.transform;
+            // Cofactor matrix of the linear part: proportional to the inverse transpose.
+            double a = t(0, 0), b = t(0, 1), c = t(0, 2), d = t(1, 0), e = t(1, 1), f = t(1, 2),
+                   g = t(2, 0), h = t(2, 1), k = t(2, 2);
+            double cof[9] = {e * k - f * h, f * g - d * k, d * h - e * g, c * h - b * k, a * k - c * g,
+                             b * g - a * h, b * f - c * e, c * d - a * f, a * e - b * d};
+            for (std::size_t i = 0; i < n.size(); i += 3) {
+                double x = n[i], y = n[i + 1], z = n[i + 2];
+                double w[3] = {cof[0] * x + cof[1] * y + cof[2] * z, cof[3] * x + cof[4] * y + cof[5] * z,
+                               cof[6] * x + cof[7] * y + cof[8] * z};
+                double len = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+                for (int k2 = 0; k2 < 3; ++k2) out[v * 3 + i + k2] = len > 0 ? float(w[k2] / len) : 0.0f;
+            }
+        }
+        v += m.data.vertex_count();
+    }
+    return out;
+}
+
+} // namespace
+
+void Renderer::Impl::upload_all()
+{
+    const auto& positions = scene.world_positions();
+    const auto& indices = scene.world_indices();
+    std::uint64_t pos_bytes = std::max<std::uint64_t>(positions.size() * 4, 16);
+    std::uint64_t idx_bytes = std::max<std::uint64_t>(indices.size() * 4, 16);
+    dev().check_allocation(pos_bytes, "the scene's " + std::to_string(scene.vertex_count()) + " vertices");
+    dev().check_allocation(idx_bytes, "the scene's " + std::to_string(scene.triangle_count()) + " triangles");
+    if (pos_bytes * 2 + idx_bytes > dev().info.global_memory)
+        throw Error(Error::Kind::Limit, "the scene (" + std::to_string(scene.triangle_count()) +
+                                            " triangles) does not fit in " + dev().info.name + "'s " +
+                                            std::to_string(dev().info.global_memory) + " bytes");
+    try {
+        gpu.triangle_count = std::uint32_t(scene.triangle_count());
+        gpu.vertex_count = std::uint32_t(scene.vertex_count());
+        gpu.positions = cl::Buffer(dev().context, CL_MEM_READ_ONLY, pos_bytes);
+        gpu.indices = cl::Buffer(dev().context, CL_MEM_READ_ONLY, idx_bytes);
+        if (!positions.empty()) queue.enqueueWriteBuffer(gpu.positions, CL_FALSE, 0, positions.size() * 4, positions.data());
+        if (!indices.empty()) queue.enqueueWriteBuffer(gpu.indices, CL_FALSE, 0, indices.size() * 4, indices.data());
+        gpu.has_normals = false;
+        for (const auto& m : scene.meshes()) gpu.has_normals |= !m.data.normals.empty();
+        if (gpu.has_normals) {
+            auto normals = world_normals(scene);
+            gpu.normals = cl::Buffer(dev().context, CL_MEM_READ_ONLY, pos_bytes);
+            queue.enqueueWriteBuffer(gpu.normals, CL_FALSE, 0, normals.size() * 4, normals.data());
+        } else {
+            gpu.normals = cl::Buffer(dev().context, CL_MEM_READ_ONLY, 16);
+        }
+        queue.finish();
+    } catch (const cl::Error& e) {
+        throw_cl_error(e, "uploading the scene to " + dev().info.name);
+    }
+}
+
+void Renderer::Impl::upload_positions(std::size_t first_vertex, std::size_t count)
+{
+    const auto& positions = scene.world_positions();
+    try {
+        queue.enqueueWriteBuffer(gpu.positions, CL_TRUE, first_vertex * 12, count * 12, &positions[first_vertex * 3]);
+    } catch (const cl::Error& e) {
+        throw_cl_error(e, "uploading changed vertices");
+    }
+}
+
+RasterPipeline& Renderer::Impl::raster_pipeline()
+{
+    if (!raster) raster = std::make_unique<RasterPipeline>(dev(), options);
+    return *raster;
+}
+
+RayPipeline& Renderer::Impl::ray_pipeline(bool need_bvh)
+{
+    if (!ray) ray = std::make_unique<RayPipeline>(dev(), options);
+    if (need_bvh && !ray->built()) ray->build(scene, queue);
+    return *ray;
+}
+
+Renderer::Renderer(Device device, const Scene& scene, RenderOptions options) : impl_(std::make_unique<Impl>())
+{
+    if (!device) throw Error(Error::Kind::InvalidArgument, "Renderer: empty Device");
+    check_options(options);
+    impl_->device = std::move(device);
+    impl_->options = options;
+    impl_->scene = scene;
+    impl_->queue = impl_->dev().make_queue();
+    impl_->upload_all();
+}
+
+Renderer::~Renderer() = default;
+Renderer::Renderer(Renderer&&) noexcept = default;
+Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+
+void Renderer::prepare(Path path)
+{
+    if (path == Path::Raster) impl_->raster_pipeline();
+    else impl_->ray_pipeline(path == Path::Ray);
+}
+
+VisibilityBuffer Renderer::render(const Camera& camera, int width, int height, Path path)
+{
+    camera.validate();
+    VisibilityBuffer target(impl_->device, width, height);
+    render(camera, path, target);
+    return target;
+}
+
+void Renderer::render(const Camera& camera, Path path, VisibilityBuffer& target)
+{
+    camera.validate();
+    if (target.empty()) throw Error(Error::Kind::InvalidArgument, "Renderer::render: empty target buffer");
+    if (target.device().context() != impl_->device.context())
+        throw Error(Error::Kind::InvalidArgument, "Renderer::render: the target belongs to another OpenCL context");
+    Impl& m = *impl_;
+    Frame frame;
+    frame.queue = m.queue;
+    frame.camera = &camera;
+    frame.width = target.width();
+    frame.height = target.height();
+    frame.gpu_camera = make_gpu_camera(camera, frame.width, frame.height);
+    frame.keys = cl::Buffer(target.keys(), true);
+    frame.stages = &m.stages;
+    // Build what the path needs before the clock starts: the frame is only its kernels.
+    if (path == Path::Raster) m.raster_pipeline();
+    else m.ray_pipeline(path == Path::Ray);
+    try {
+        auto t0 = std::chrono::steady_clock::now();
+        if (path == Path::Raster) m.raster->render(m.gpu, frame);
+        else m.ray->render(m.gpu, frame, path == Path::Brute);
+        m.queue.finish();
+        auto t1 = std::chrono::steady_clock::now();
+        m.last.frame_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+        m.last.stages = m.stages.collect();
+    } catch (const cl::Error& e) {
+        m.stages.collect();
+        throw_cl_error(e, std::string("rendering with the ") + to_string(path) + " path");
+    }
+}
+
+void Renderer::update(const Scene& scene)
+{
+    Impl& m = *impl_;
+    const auto& old = m.scene.meshes();
+    const auto& now = scene.meshes();
+    if (old.size() != now.size())
+        throw Error(Error::Kind::InvalidArgument, "Renderer::update: the scene has " + std::to_string(now.size()) +
+                                                      " meshes, the renderer " + std::to_string(old.size()) +
+                                                      "; make a new Renderer for a new scene");
+    std::vector<std::size_t> changed;
+    for (std::size_t i = 0; i < now.size(); ++i) {
+        if (now[i].data.vertex_count() != old[i].data.vertex_count() ||
+            now[i].data.indices != old[i].data.indices)
+            throw Error(Error::Kind::InvalidArgument, "Renderer::update: mesh " + std::to_string(i) +
+                                                          " changed its topology; make a new Renderer");
+        if (now[i].data.positions != old[i].data.positions || now[i].transform.m != old[i].transform.m)
+            changed.push_back(i);
+    }
+    if (changed.empty()) return;
+    for (std::size_t i : changed) {
+        m.scene.set_positions(i, now[i].data.positions.data(), now[i].data.vertex_count());
+        m.scene.set_transform(i, now[i].transform);
+    }
+    std::size_t first = 0;
+    for (std::size_t i = 0, c = 0; i < now.size(); ++i) {
+        if (c < changed.size() && changed[c] == i) {
+            m.upload_positions(first, now[i].data.vertex_count());
+            ++c;
+        }
+        first += now[i].data.vertex_count();
+    }
+    if (m.ray && m.ray->built()) m.ray->update(m.scene, m.queue);
+}
+
+const FrameTiming& Renderer::last_frame() const { return impl_->last; }
+const BvhStats& Renderer::bvh_stats() const { return impl_->ray ? impl_->ray->stats() : impl_->no_bvh; }
+const RenderOptions& Renderer::options() const { return impl_->options; }
+const Device& Renderer::device() const { return impl_->device; }
+
+} // namespace clvis

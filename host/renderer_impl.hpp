@@ -1,0 +1,33 @@
+// The state behind clvis::Renderer, shared by renderer.cpp and shading.cpp.
+#pragma once
+
+#include "cl_runtime.hpp"
+#include "pipeline.hpp"
+
+#include <clvis/renderer.hpp>
+
+#include <memory>
+
+namespace clvis {
+
+struct Renderer::Impl {
+    Device device;
+    RenderOptions options;
+    Scene scene; ///< the host copy: BVH builds and refits read it
+    cl::CommandQueue queue;
+    detail::DeviceScene gpu;
+    std::unique_ptr<detail::RasterPipeline> raster;
+    std::unique_ptr<detail::RayPipeline> ray;
+    FrameTiming last;
+    BvhStats no_bvh;
+    detail::StageRecorder stages;
+
+    Device::Impl& dev() { return *device.impl(); }
+
+    void upload_all();
+    void upload_positions(std::size_t first_vertex, std::size_t count);
+    detail::RayPipeline& ray_pipeline(bool need_bvh);
+    detail::RasterPipeline& raster_pipeline();
+};
+
+} // namespace clvis

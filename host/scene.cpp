@@ -1,0 +1,184 @@
+// The host scene: meshes in order, validated on entry, flattened to world space on demand. Ids
+// are the concatenation of the meshes' triangles, as CONVENTIONS.md says.
+#include <clvis/error.hpp>
+#include <clvis/scene.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace clvis {
+
+namespace {
+
+[[noreturn]] void invalid(const std::string& mesh, const std::string& message)
+{
+    throw Error(Error::Kind::InvalidArgument, "mesh '" + mesh + "': " + message);
+}
+
+void check_transform(const std::string& name, const Mat4& t)
+{
+    for (double v : t.m)
+        if (!std::isfinite(v)) invalid(name, "transform has a non-finite entry");
+    if (t(3, 0) != 0 || t(3, 1) != 0 || t(3, 2) != 0 || t(3, 3) != 1)
+        invalid(name, "transform's last row must be 0 0 0 1");
+}
+
+void check_positions(const std::string& name, const float* p, std::size_t vertex_count)
+{
+    for (std::size_t i = 0; i < vertex_count * 3; ++i)
+        if (!std::isfinite(p[i]))
+            invalid(name, "vertex " + std::to_string(i / 3) + " has a non-finite coordinate");
+}
+
+} // namespace
+
+std::size_t Scene::add_mesh(MeshData mesh, const Mat4& transform)
+{
+    const std::string& name = mesh.name.empty() ? ("#" + std::to_string(meshes_.size())) : mesh.name;
+    if (mesh.positions.size() % 3) invalid(name, "positions must hold 3 floats per vertex");
+    if (mesh.indices.size() % 3) invalid(name, "indices must hold 3 per triangle");
+    if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
+        invalid(name, "normals must be empty or one per vertex");
+    std::size_t vertices = mesh.vertex_count();
+    check_positions(name, mesh.positions.data(), vertices);
+    for (std::size_t i = 0; i < mesh.indices.size(); ++i)
+        if (mesh.indices[i] >= vertices)
+            invalid(name, "triangle " + std::to_string(i / 3) + " refers to vertex " +
+                              std::to_string(mesh.indices[i]) + " of " + std::to_string(vertices));
+    check_transform(name, transform);
+    std::uint64_t total = std::uint64_t(triangle_count_) + mesh.triangle_count();
+    if (total > max_triangles)
+        throw Error(Error::Kind::Limit, "mesh '" + name + "': the scene would hold " + std::to_string(total) +
+                                            " triangles, more than 32-bit ids allow (" +
+                                            std::to_string(max_triangles) + ")");
+    Mesh m;
+    m.first_triangle = std::uint32_t(triangle_count_);
+    m.transform = transform;
+    triangle_count_ += mesh.triangle_count();
+    vertex_count_ += vertices;
+    m.data = std::move(mesh);
+    if (m.data.name.empty()) m.data.name = name;
+    meshes_.push_back(std::move(m));
+    invalidate();
+    return meshes_.size() - 1;
+}
+
+std::size_t Scene::add_mesh(const float* positions, std::size_t vertex_count, const std::uint32_t* indices,
+                            std::size_t triangle_count, const Mat4& transform, std::string name)
+{
+    if ((!positions && vertex_count) || (!indices && triangle_count))
+        throw Error(Error::Kind::InvalidArgument, "Scene::add_mesh: null array with a non-zero count");
+    MeshData m;
+    m.name = std::move(name);
+    m.positions.assign(positions, positions + vertex_count * 3);
+    m.indices.assign(indices, indices + triangle_count * 3);
+    return add_mesh(std::move(m), transform);
+}
+
+void Scene::set_positions(std::size_t mesh, const float* positions, std::size_t vertex_count)
+{
+    if (mesh >= meshes_.size())
+        throw Error(Error::Kind::InvalidArgument, "Scene::set_positions: no mesh " + std::to_string(mesh));
+    Mesh& m = meshes_[mesh];
+    if (vertex_count != m.data.vertex_count())
+        invalid(m.data.name, "set_positions got " + std::to_string(vertex_count) + " vertices, the mesh has " +
+                                 std::to_string(m.data.vertex_count()));
+    check_positions(m.data.name, positions, vertex_count);
+    std::copy(positions, positions + vertex_count * 3, m.data.positions.begin());
+    ++m.revision;
+    invalidate();
+}
+
+void Scene::set_transform(std::size_t mesh, const Mat4& transform)
+{
+    if (mesh >= meshes_.size())
+        throw Error(Error::Kind::InvalidArgument, "Scene::set_transform: no mesh " + std::to_string(mesh));
+    check_transform(meshes_[mesh].data.name, transform);
+    meshes_[mesh].transform = transform;
+    ++meshes_[mesh].revision;
+    invalidate();
+}
+
+void Scene::invalidate() { world_valid_ = false; }
+
+const std::vector<float>& Scene::world_positions() const
+{
+    if (!world_valid_) {
+        world_positions_.resize(vertex_count_ * 3);
+        world_indices_.resize(triangle_count_ * 3);
+        std::size_t v = 0, t = 0;
+        for (const Mesh& m : meshes_) {
+            const auto& p = m.data.positions;
+            bool identity = m.transform.is_identity();
+            for (std::size_t i = 0; i < p.size(); i += 3) {
+                if (identity) {
+                    std::copy(&p[i], &p[i] + 3, &world_positions_[v * 3 + i]);
+                } else {
+                    Vec3 w = m.transform.transform_point({p[i], p[i + 1], p[i + 2]});
+                    float* out = &world_positions_[v * 3 + i];
+                    out[0] = float(w.x);
+                    out[1] = float(w.y);
+                    out[2] = float(w.z);
+                }
+            }
+            for (std::uint32_t index : m.data.indices) world_indices_[t++] = index + std::uint32_t(v);
+            v += m.data.vertex_count();
+        }
+        for (std::size_t i = 0; i < world_positions_.size(); ++i)
+            if (!std::isfinite(world_positions_[i]))
+                throw Error(Error::Kind::InvalidArgument,
+                            "mesh '" + meshes_[mesh_of_vertex(i / 3)].data.name +
+                                "': a transformed vertex overflows float32");
+        world_valid_ = true;
+    }
+    return world_positions_;
+}
+
+std::size_t Scene::mesh_of_vertex(std::size_t vertex) const
+{
+    std::size_t first = 0;
+    for (std::size_t i = 0; i < meshes_.size(); ++i) {
+        first += meshes_[i].data.vertex_count();
+        if (vertex < first) return i;
+    }
+    return meshes_.size() - 1;
+}
+
+const std::vector<std::uint32_t>& Scene::world_indices() const
+{
+    world_positions();
+    return world_indices_;
+}
+
+Bounds Scene::bounds() const
+{
+    const auto& p = world_positions();
+    Bounds b;
+    for (std::size_t i = 0; i < p.size(); i += 3) b.add(Vec3{p[i], p[i + 1], p[i + 2]});
+    return b;
+}
+
+void Scene::triangle(std::uint32_t id, float out[9]) const
+{
+    if (id >= triangle_count_)
+        throw Error(Error::Kind::InvalidArgument, "Scene::triangle: no triangle " + std::to_string(id));
+    const auto& p = world_positions();
+    for (int k = 0; k < 3; ++k) {
+        std::uint32_t v = world_indices_[std::size_t(id) * 3 + k];
+        out[k * 3 + 0] = p[std::size_t(v) * 3 + 0];
+        out[k * 3 + 1] = p[std::size_t(v) * 3 + 1];
+        out[k * 3 + 2] = p[std::size_t(v) * 3 + 2];
+    }
+}
+
+std::size_t Scene::mesh_of(std::uint32_t id) const
+{
+    if (id >= triangle_count_)
+        throw Error(Error::Kind::InvalidArgument, "Scene::mesh_of: no triangle " + std::to_string(id));
+    auto it = std::upper_bound(meshes_.begin(), meshes_.end(), id,
+                               [](std::uint32_t v, const Mesh& m) { return v < m.first_triangle; });
+    return std::size_t(it - meshes_.begin()) - 1;
+}
+
+} // namespace clvis
