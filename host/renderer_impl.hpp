@@ -30,4 +30,11 @@ struct Renderer::Impl {
     detail::RasterPipeline& raster_pipeline();
 };
 
+namespace detail {
+/// Library code beside the Renderer (shading) reaches its state through this.
+struct RendererAccess {
+    static Renderer::Impl& of(Renderer& renderer) { return *renderer.impl_; }
+};
+} // namespace detail
+
 } // namespace clvis

@@ -16,6 +16,7 @@ int main(int argc, char** argv)
     app.fallthrough();
     clvis::cli::add_devices_command(app);
     clvis::cli::add_info_command(app);
+    clvis::cli::add_render_command(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

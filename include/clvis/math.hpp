@@ -36,7 +36,7 @@ struct Bounds {
         lo = {std::fmin(lo.x, p.x), std::fmin(lo.y, p.y), std::fmin(lo.z, p.z)};
         hi = {std::fmax(hi.x, p.x), std::fmax(hi.y, p.y), std::fmax(hi.z, p.z)};
     }
-    void add(const Bounds& b)
+    void merge(const Bounds& b)
     {
         if (!b.empty()) { add(b.lo); add(b.hi); }
     }

@@ -15,6 +15,10 @@
 
 namespace clvis {
 
+namespace detail {
+struct RendererAccess;
+}
+
 enum class Path {
     Raster, ///< project, clip, bin into tiles, rasterize with 64-bit atomic depth tests
     Ray,    ///< one ray per pixel centre through a BVH
@@ -93,6 +97,7 @@ public:
     struct Impl;
 
 private:
+    friend struct detail::RendererAccess;
     std::unique_ptr<Impl> impl_;
 };
 

@@ -1,0 +1,247 @@
+// clvis render: meshes in, a camera, one or both paths, buffers and images out, with the timings
+// of CONVENTIONS.md's --json. With --path all both paths run and the referee compares them.
+#include "commands.hpp"
+#include "options.hpp"
+
+#include <clvis/clvis.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+
+namespace clvis::cli {
+
+namespace {
+
+struct RenderArgs {
+    SceneInput scene;
+    CameraOptions camera;
+    DeviceOptions device;
+    std::string path = "raster";
+    std::string ids, depth, image, shade = "lambert", cull = "none";
+    int repeat = 0;
+    int tile = 0;
+    int leaf = 4;
+    bool json = false;
+    bool quiet = false;
+};
+
+/// "out.png" -> "out-ray.png" when several paths write files.
+std::string with_suffix(const std::string& file, const std::string& suffix, bool several)
+{
+    if (!several || file.empty()) return file;
+    auto dot = file.find_last_of('.');
+    auto slash = file.find_last_of('/');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return file + "-" + suffix;
+    return file.substr(0, dot) + "-" + suffix + file.substr(dot);
+}
+
+double median(std::vector<double> v)
+{
+    std::sort(v.begin(), v.end());
+    std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+#if !CLVIS_WITH_IMAGE_IO
+[[noreturn]] void no_image_io(const std::string& flag)
+{
+    throw Error(Error::Kind::InvalidArgument, flag + ": this clvis was built without OpenImageIO (CLVIS_WITH_IMAGE_IO=OFF)");
+}
+#endif
+
+struct PathResult {
+    Path path;
+    std::vector<double> samples;
+    FrameTiming fastest;
+    double build_ms = 0;
+    BvhStats bvh;
+    HostVisibility vis;
+};
+
+PathResult run_path(Renderer& renderer, const Camera& camera, const RenderArgs& a, Path path, bool several,
+                    bool need_host)
+{
+    PathResult r;
+    r.path = path;
+    renderer.prepare(path);
+    if (path == Path::Ray) {
+        r.bvh = renderer.bvh_stats();
+        r.build_ms = r.bvh.build_ms;
+    }
+    VisibilityBuffer vis(renderer.device(), a.camera.width, a.camera.height);
+    int frames = std::max(a.repeat, 1);
+    if (a.repeat > 0) renderer.render(camera, path, vis); // warm-up: first launches compile
+    double best = 1e300;
+    for (int i = 0; i < frames; ++i) {
+        renderer.render(camera, path, vis);
+        const FrameTiming& t = renderer.last_frame();
+        r.samples.push_back(t.frame_ms);
+        if (t.frame_ms < best) {
+            best = t.frame_ms;
+            r.fastest = t;
+        }
+    }
+    std::string name = to_string(path);
+    if (need_host || !a.ids.empty() || !a.depth.empty()) r.vis = vis.read();
+#if CLVIS_WITH_IMAGE_IO
+    if (!a.ids.empty()) write_ids(with_suffix(a.ids, name, several), r.vis);
+    if (!a.depth.empty()) write_depth(with_suffix(a.depth, name, several), r.vis);
+    if (!a.image.empty()) {
+        ShadeOptions so;
+        so.mode = a.shade == "depth" ? ShadeMode::Depth : a.shade == "ids" ? ShadeMode::Ids : ShadeMode::Lambert;
+        write_image(with_suffix(a.image, name, several), shade(renderer, vis, camera, so));
+    }
+#else
+    if (!a.ids.empty()) no_image_io("--ids");
+    if (!a.depth.empty()) no_image_io("--depth");
+    if (!a.image.empty()) no_image_io("--image");
+#endif
+    return r;
+}
+
+nlohmann::json stages_json(const FrameTiming& t)
+{
+    nlohmann::json s = nlohmann::json::object();
+    for (const auto& st : t.stages) s[st.name] = st.ms;
+    return s;
+}
+
+void render_command(const RenderArgs& a)
+{
+    double load_ms = 0;
+    SceneFile file = a.scene.load(&load_ms);
+    CameraOptions cam_opts = a.camera;
+    if (file.width > 0 && cam_opts.width == 1920 && cam_opts.height == 1080) {
+        cam_opts.width = file.width;
+        cam_opts.height = file.height;
+    }
+    Camera camera = cam_opts.resolve(file.scene, file.camera);
+    if (file.scene.empty()) throw Error(Error::Kind::InvalidArgument, "the scene holds no triangles");
+
+    std::vector<Path> paths;
+    if (a.path == "all") paths = {Path::Raster, Path::Ray};
+    else paths = {path_from_string(a.path)};
+    bool several = paths.size() > 1;
+
+    Device device = a.device.open();
+    RenderOptions options;
+    options.tile_size = a.tile;
+    options.cull = a.cull == "back" ? Cull::Back : a.cull == "front" ? Cull::Front : Cull::None;
+    options.bvh.max_leaf_size = a.leaf;
+    auto say = [&](const std::string& line) {
+        if (!a.quiet) std::cerr << line << "\n";
+    };
+    say("clvis: " + std::to_string(file.scene.triangle_count()) + " triangles from " +
+        std::to_string(a.scene.files.size()) + " file(s) in " + std::to_string(int(load_ms + 0.5)) + " ms; device " +
+        device.info().name);
+    if (cam_opts.framed(file.camera)) say("clvis: framing camera: " + camera.to_flags());
+    Renderer renderer(device, file.scene, options);
+
+    std::vector<PathResult> results;
+    for (Path p : paths) {
+        results.push_back(run_path(renderer, camera, a, p, several, several));
+        const PathResult& r = results.back();
+        std::string line = std::string("clvis: ") + to_string(p) + ": ";
+        if (a.repeat > 0) {
+            char buf[128];
+            std::snprintf(buf, sizeof buf, "frame %.2f ms min, %.2f ms median of %d after a warm-up",
+                          *std::min_element(r.samples.begin(), r.samples.end()), median(r.samples), a.repeat);
+            line += buf;
+        } else {
+            char buf[128];
+            std::snprintf(buf, sizeof buf, "frame %.2f ms (first frame: includes the driver's first-launch "
+                                           "compilation; --repeat N times warm frames)", r.samples[0]);
+            line += buf;
+        }
+        for (const auto& st : r.fastest.stages) {
+            char buf[64];
+            std::snprintf(buf, sizeof buf, "; %s %.2f", st.name.c_str(), st.ms);
+            line += buf;
+        }
+        if (p == Path::Ray) {
+            char buf[128];
+            std::snprintf(buf, sizeof buf, "; BVH %zu nodes built in %.1f ms", r.bvh.nodes, r.build_ms);
+            line += buf;
+        }
+        say(line);
+    }
+
+    nlohmann::json compare_json;
+    if (several) {
+        Referee referee(file.scene, camera, cam_opts.width, cam_opts.height);
+        CompareOptions co;
+        co.all = true;
+        CompareReport rep = referee.compare(results[0].vis, results[1].vis, co);
+        char buf[256];
+        std::snprintf(buf, sizeof buf, "clvis: raster vs ray: %zu pixels, %zu equal, %zu explained, %zu errors "
+                                       "(raster %zu, ray %zu)",
+                      rep.pixels, rep.equal, rep.explained, rep.errors, rep.errors_a, rep.errors_b);
+        say(buf);
+        for (const auto& e : rep.first_errors) say("  " + e.describe());
+        compare_json = {{"pixels", rep.pixels}, {"equal", rep.equal}, {"explained", rep.explained},
+                        {"errors", rep.errors}, {"errors_raster", rep.errors_a}, {"errors_ray", rep.errors_b}};
+    }
+
+    if (a.json) {
+        auto one = [&](const PathResult& r) {
+            return nlohmann::json{{"path", to_string(r.path)},
+                                  {"frame_ms", {{"min", *std::min_element(r.samples.begin(), r.samples.end())},
+                                                {"median", median(r.samples)},
+                                                {"samples", r.samples}}},
+                                  {"stages_ms", stages_json(r.fastest)},
+                                  {"build_ms", r.build_ms},
+                                  {"bvh_nodes", r.bvh.nodes}};
+        };
+        nlohmann::json j = several ? nlohmann::json{{"path", "all"}} : one(results[0]);
+        j["triangles"] = file.scene.triangle_count();
+        j["width"] = cam_opts.width;
+        j["height"] = cam_opts.height;
+        j["device"] = device.info().name;
+        j["load_ms"] = load_ms;
+        j["warm_up"] = a.repeat > 0;
+        j["camera"] = camera.to_flags();
+        if (several) {
+            j["build_ms"] = results[1].build_ms;
+            j["results"] = nlohmann::json::array();
+            for (const auto& r : results) j["results"].push_back(one(r));
+            j["compare"] = compare_json;
+        }
+        std::cout << j.dump(2) << "\n";
+    }
+    if (several && compare_json["errors"].get<std::size_t>() > 0)
+        throw Error(Error::Kind::InvalidArgument, "the referee rejected pixels of a path (see above)");
+}
+
+} // namespace
+
+void add_render_command(CLI::App& app)
+{
+    auto args = std::make_shared<RenderArgs>();
+    auto* cmd = app.add_subcommand(
+        "render", "Render meshes by rasterization, by ray casting, or both, and write the visibility buffers.\n"
+                  "Example: clvis render scenes/stanford-bunny.obj --path all --image bunny.png --ids ids.tif");
+    args->scene.add_to(*cmd);
+    args->camera.add_to(*cmd);
+    args->device.add_to(*cmd);
+    cmd->add_option("--path", args->path, "raster, ray, brute, or all (raster and ray, compared by the referee)")
+        ->check(CLI::IsMember({"raster", "ray", "brute", "all"}));
+    cmd->add_option("--ids", args->ids, "write the id buffer (.tif, .tiff, .exr; uint32, background 0xFFFFFFFF)");
+    cmd->add_option("--depth", args->depth, "write the view-depth buffer (.exr; float, background +inf)");
+    cmd->add_option("--image", args->image, "write a shaded colour image (.png, .exr, ...)");
+    cmd->add_option("--shade", args->shade, "colour image: lambert, depth or ids")
+        ->check(CLI::IsMember({"lambert", "depth", "ids"}));
+    cmd->add_option("--repeat", args->repeat, "render N timed frames after one untimed warm-up")
+        ->check(CLI::Range(0, 1000000));
+    cmd->add_option("--tile", args->tile, "raster tile size in pixels (power of two; 0: default)");
+    cmd->add_option("--cull", args->cull, "face culling: none, back or front")
+        ->check(CLI::IsMember({"none", "back", "front"}));
+    cmd->add_option("--leaf-size", args->leaf, "BVH: triangles per leaf at most");
+    cmd->add_flag("--json", args->json, "print one JSON object with the timings on standard output");
+    cmd->add_flag("--quiet,-q", args->quiet, "say nothing on standard error");
+    cmd->callback([args] { render_command(*args); });
+}
+
+} // namespace clvis::cli

@@ -1,0 +1,52 @@
+// Shading over a visibility buffer (kernels/shade.cl): the buffer's keys and the renderer's
+// resident scene in, an RGBA8 image out.
+#include "renderer_impl.hpp"
+
+#include <clvis/shading.hpp>
+
+namespace clvis {
+
+using namespace detail;
+
+Image shade(Renderer& renderer, const VisibilityBuffer& vis, const Camera& camera, const ShadeOptions& options)
+{
+    camera.validate();
+    if (vis.empty()) throw Error(Error::Kind::InvalidArgument, "shade: empty visibility buffer");
+    Renderer::Impl& r = RendererAccess::of(renderer);
+    if (vis.device().context() != r.device.context())
+        throw Error(Error::Kind::InvalidArgument, "shade: the buffer belongs to another OpenCL context");
+    Vec3 light = options.light_direction;
+    if (!is_finite(light) || !(length(light) > 0))
+        throw Error(Error::Kind::InvalidArgument, "shade: the light direction must be a finite non-zero vector");
+    int mode = options.mode == ShadeMode::Lambert ? 0 : options.mode == ShadeMode::Depth ? 1 : 2;
+    Image image;
+    image.width = vis.width();
+    image.height = vis.height();
+    image.rgba.resize(std::size_t(image.width) * image.height * 4);
+    try {
+        cl::Kernel kernel(r.dev().program("shade"), "shade");
+        cl::Buffer out(r.dev().context, CL_MEM_WRITE_ONLY, image.rgba.size());
+        clvis_camera_gpu g = make_gpu_camera(camera, image.width, image.height);
+        kernel.setArg(0, cl::Buffer(vis.keys(), true));
+        kernel.setArg(1, out);
+        kernel.setArg(2, sizeof g, &g);
+        kernel.setArg(3, r.gpu.positions);
+        kernel.setArg(4, r.gpu.indices);
+        kernel.setArg(5, r.gpu.normals);
+        kernel.setArg(6, cl_int(r.gpu.has_normals));
+        kernel.setArg(7, cl_uint(r.gpu.triangle_count));
+        kernel.setArg(8, cl_int(mode));
+        kernel.setArg(9, float(light.x));
+        kernel.setArg(10, float(light.y));
+        kernel.setArg(11, float(light.z));
+        r.queue.enqueueNDRangeKernel(kernel, cl::NullRange,
+                                     cl::NDRange(round_up(image.width, 8), round_up(image.height, 8)),
+                                     cl::NDRange(8, 8));
+        r.queue.enqueueReadBuffer(out, CL_TRUE, 0, image.rgba.size(), image.rgba.data());
+    } catch (const cl::Error& e) {
+        throw_cl_error(e, "shading a visibility buffer");
+    }
+    return image;
+}
+
+} // namespace clvis

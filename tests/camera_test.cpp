@@ -1,0 +1,269 @@
+// The camera of CONVENTIONS.md: hand-computed projections, the matrices against the direct
+// path, the physical camera, the orthographic limit, round trips, and the float32 header that
+// the kernels compile (kernels/shared/camera.h) against the double-precision reference.
+#include "catch.hpp"
+
+#include "pipeline.hpp"
+
+#include <clvis/camera.hpp>
+#include <clvis/error.hpp>
+
+#include <cmath>
+#include <random>
+
+using namespace clvis;
+
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+
+// A camera at the origin looking down -z with y up: camera space equals world space.
+Camera axis_camera(double fov = 90)
+{
+    return Camera::perspective({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, fov, 0.1, 100);
+}
+
+Vec3 apply(const Mat4& m, Vec3 p, double* w)
+{
+    double x = m(0, 0) * p.x + m(0, 1) * p.y + m(0, 2) * p.z + m(0, 3);
+    double y = m(1, 0) * p.x + m(1, 1) * p.y + m(1, 2) * p.z + m(1, 3);
+    double z = m(2, 0) * p.x + m(2, 1) * p.y + m(2, 2) * p.z + m(2, 3);
+    *w = m(3, 0) * p.x + m(3, 1) * p.y + m(3, 2) * p.z + m(3, 3);
+    return {x, y, z};
+}
+
+} // namespace
+
+TEST_CASE("a point at z = -2 lands on the canvas at half its x and y", "[camera]")
+{
+    Camera cam = axis_camera(90); // top = tan(45 deg) = 1: screen space equals NDC vertically
+    Vec3 c = cam.to_camera({0.6, -0.4, -2});
+    CHECK(c.x == Approx(0.6));
+    CHECK(c.y == Approx(-0.4));
+    CHECK(c.z == Approx(-2));
+    // s = (0.3, -0.2); aspect 1 so NDC = s; raster = ((0.3 + 1) / 2 * 100, (1 + 0.2) / 2 * 100).
+    Vec3 r = cam.to_raster({0.6, -0.4, -2}, 100, 100);
+    CHECK(r.x == Approx(65.0));
+    CHECK(r.y == Approx(60.0));
+    CHECK(r.z == Approx(2.0));
+}
+
+TEST_CASE("raster space has its origin at the top-left corner and y down", "[camera]")
+{
+    Camera cam = axis_camera(90);
+    Vec3 top_left = cam.to_raster({-1, 1, -1}, 200, 100); // aspect 2: right = 2
+    CHECK(top_left.x == Approx(50.0));
+    CHECK(top_left.y == Approx(0.0).margin(1e-12));
+    Vec3 centre = cam.to_raster({0, 0, -5}, 200, 100);
+    CHECK(centre.x == Approx(100.0));
+    CHECK(centre.y == Approx(50.0));
+}
+
+TEST_CASE("the look-at frame is right-handed and looks down -z", "[camera]")
+{
+    Camera cam = Camera::perspective({1, 2, 3}, {4, 2, 3}, {0, 1, 0}, 60, 0.1, 10);
+    CameraFrame fr = cam.frame();
+    CHECK(fr.f.x == Approx(1.0));
+    CHECK(fr.r.z == Approx(1.0)); // cross((1,0,0), (0,1,0)) = (0,0,1)
+    CHECK(fr.u.y == Approx(1.0));
+    Vec3 c = cam.to_camera({6, 2, 3});
+    CHECK(c.z == Approx(-5.0));
+    CHECK(c.x == Approx(0.0).margin(1e-12));
+}
+
+TEST_CASE("the OpenGL matrices agree with the direct projection", "[camera]")
+{
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-3, 3);
+    for (Projection proj : {Projection::Perspective, Projection::Orthographic}) {
+        Camera cam = Camera::perspective({1, 2, 5}, {0.2, -0.1, 0}, {0, 1, 0}, 50, 0.5, 40);
+        cam.projection = proj;
+        cam.ortho_height = 3;
+        const int w = 640, h = 360;
+        Mat4 pv = cam.projection_matrix(double(w) / h) * cam.view_matrix();
+        for (int i = 0; i < 50; ++i) {
+            Vec3 p{u(rng), u(rng), u(rng)};
+            Vec3 direct = cam.to_raster(p, w, h);
+            double wc = 0;
+            Vec3 clip = apply(pv, p, &wc);
+            double nx = clip.x / wc, ny = clip.y / wc, nz = clip.z / wc;
+            CHECK((nx + 1) / 2 * w == Approx(direct.x).margin(1e-9));
+            CHECK((1 - ny) / 2 * h == Approx(direct.y).margin(1e-9));
+            // NDC z maps near to -1 and far to +1.
+            double d = direct.z;
+            double expected_z = proj == Projection::Perspective
+                                    ? (cam.far + cam.near) / (cam.far - cam.near) - 2 * cam.far * cam.near / ((cam.far - cam.near) * d)
+                                    : 2 * (d - cam.near) / (cam.far - cam.near) - 1;
+            CHECK(nz == Approx(expected_z).margin(1e-9));
+        }
+    }
+}
+
+TEST_CASE("focal length and film gate give the field of view", "[camera]")
+{
+    // 35 mm full frame (36 x 24 mm) at 50 mm focal length: vertical fov = 2 atan(12 / 50).
+    double aspect = 36.0 / 24.0;
+    Camera cam = Camera::physical({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 50, 36, 24, FilmFit::Fill, aspect, 0.1, 10);
+    CHECK(cam.fov_y == Approx(2 * std::atan(12.0 / 50) * 180 / pi));
+
+    // A square image: fill crops the wide gate's sides (vertical extent kept); overscan shows all
+    // of its width, so the vertical extent grows by the aspect ratio of the gate.
+    Camera fill = Camera::physical({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 50, 36, 24, FilmFit::Fill, 1.0, 0.1, 10);
+    Camera over = Camera::physical({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 50, 36, 24, FilmFit::Overscan, 1.0, 0.1, 10);
+    CHECK(fill.canvas(1.0).top == Approx(12.0 / 50));
+    CHECK(over.canvas(1.0).top == Approx(18.0 / 50));
+    // A tall image (aspect 0.5) fills with the gate's height and crops its width to half of it.
+    Camera tall = Camera::physical({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 50, 36, 24, FilmFit::Fill, 0.5, 0.1, 10);
+    CHECK(tall.canvas(0.5).top == Approx(12.0 / 50));
+    CHECK(tall.canvas(0.5).right == Approx(6.0 / 50));
+    // A gate narrower than the image: fill keeps the gate's width, overscan its height.
+    Camera wide_fill = Camera::physical({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 50, 36, 24, FilmFit::Fill, 3.0, 0.1, 10);
+    Camera wide_over = Camera::physical({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 50, 36, 24, FilmFit::Overscan, 3.0, 0.1, 10);
+    CHECK(wide_fill.canvas(3.0).right == Approx(18.0 / 50));
+    CHECK(wide_over.canvas(3.0).top == Approx(12.0 / 50));
+    CHECK_THROWS_AS(Camera::physical({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 0, 36, 24, FilmFit::Fill, 1, 0.1, 10), Error);
+}
+
+TEST_CASE("the orthographic camera is the limit of a far perspective camera with a narrow view", "[camera]")
+{
+    Vec3 p{0.3, -0.2, 0.1};
+    Camera ortho = Camera::orthographic({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 2, 0.1, 100);
+    Vec3 ro = ortho.to_raster(p, 100, 100);
+    double dist = 1e5;
+    double fov = 2 * std::atan(1.0 / dist) * 180 / pi; // canvas half-height 1 at the target
+    Camera persp = Camera::perspective({0, 0, dist}, {0, 0, 0}, {0, 1, 0}, fov, 1, 2 * dist);
+    Vec3 rp = persp.to_raster(p, 100, 100);
+    CHECK(rp.x == Approx(ro.x).margin(1e-3));
+    CHECK(rp.y == Approx(ro.y).margin(1e-3));
+    CHECK(ro.x == Approx((0.3 + 1) / 2 * 100));
+}
+
+TEST_CASE("a primary ray through a raster position projects back to it, with t equal to view depth",
+          "[camera]")
+{
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u01(0, 1), t(0.5, 20);
+    for (Projection proj : {Projection::Perspective, Projection::Orthographic}) {
+        Camera cam = Camera::perspective({2, 1, 4}, {0, 0, 0}, {0, 1, 0}, 40, 0.1, 50);
+        cam.projection = proj;
+        for (int i = 0; i < 100; ++i) {
+            double x = u01(rng) * 320, y = u01(rng) * 200, tt = t(rng);
+            Ray ray = cam.primary_ray(x, y, 320, 200);
+            Vec3 hit = ray.origin + ray.direction * tt;
+            Vec3 back = cam.to_raster(hit, 320, 200);
+            CHECK(back.x == Approx(x).margin(1e-9));
+            CHECK(back.y == Approx(y).margin(1e-9));
+            CHECK(back.z == Approx(tt).epsilon(1e-12));
+        }
+    }
+}
+
+TEST_CASE("the float32 projection of the kernels agrees with the double-precision camera", "[camera]")
+{
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (Projection proj : {Projection::Perspective, Projection::Orthographic}) {
+        Camera cam = Camera::perspective({0.5, 0.8, 3}, {0, 0, 0}, {0, 1, 0}, 45, 0.1, 20);
+        cam.projection = proj;
+        const int w = 1920, h = 1080;
+        clvis_camera_gpu g = detail::make_gpu_camera(cam, w, h);
+        for (int i = 0; i < 200; ++i) {
+            Vec3 p{u(rng), u(rng), u(rng)};
+            Vec3 ref = cam.to_raster(p, w, h);
+            clvis_vec3 c = clvis_camera_from_world(g, float(p.x), float(p.y), float(p.z));
+            clvis_vec2 r = clvis_raster_from_screen(g, clvis_screen_from_camera(g, c));
+            // float32 raster positions near 1920 carry ~2^-13 px of rounding per operation.
+            CHECK(std::fabs(r.x - ref.x) < 2e-3);
+            CHECK(std::fabs(r.y - ref.y) < 2e-3);
+            CHECK(std::fabs(-c.z - ref.z) < 1e-5 * ref.z + 1e-6);
+
+            double rx = (i % 97) + 0.5, ry = (i % 53) + 0.5;
+            Ray ray = cam.primary_ray(rx, ry, w, h);
+            clvis_vec3 o, d;
+            clvis_primary_ray(g, float(rx), float(ry), &o, &d);
+            CHECK(std::fabs(o.x - ray.origin.x) < 1e-5);
+            CHECK(std::fabs(d.x - ray.direction.x) < 1e-5);
+            CHECK(std::fabs(d.y - ray.direction.y) < 1e-5);
+            CHECK(std::fabs(d.z - ray.direction.z) < 1e-5);
+        }
+    }
+}
+
+TEST_CASE("invalid cameras are refused with the field named", "[camera]")
+{
+    auto msg = [](Camera c) {
+        try {
+            c.validate();
+        } catch (const Error& e) {
+            CHECK(e.kind() == Error::Kind::InvalidArgument);
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    Camera ok = axis_camera();
+    CHECK(msg(ok) == "accepted");
+    Camera c = ok;
+    c.eye.x = std::nan("");
+    CHECK(msg(c).find("eye") != std::string::npos);
+    c = ok;
+    c.target = c.eye;
+    CHECK(msg(c).find("eye equals target") != std::string::npos);
+    c = ok;
+    c.up = {0, 0, 1};
+    CHECK(msg(c).find("parallel") != std::string::npos);
+    c = ok;
+    c.near = 0;
+    CHECK(msg(c).find("near") != std::string::npos);
+    c = ok;
+    c.far = c.near;
+    CHECK(msg(c).find("far") != std::string::npos);
+    c = ok;
+    c.fov_y = 180;
+    CHECK(msg(c).find("fov") != std::string::npos);
+    c = ok;
+    c.far = INFINITY;
+    CHECK(msg(c).find("far") != std::string::npos);
+    c = ok;
+    c.projection = Projection::Orthographic;
+    c.ortho_height = -1;
+    CHECK(msg(c).find("ortho height") != std::string::npos);
+}
+
+TEST_CASE("the framing camera sees the whole bounding sphere", "[camera]")
+{
+    Bounds b;
+    b.add({-1, -2, -0.5});
+    b.add({3, 1, 0.5});
+    Camera cam = Camera::framing(b);
+    double radius = length(b.extent()) / 2;
+    double dist = length(cam.eye - b.center());
+    CHECK(dist == Approx(radius / std::sin(22.5 * pi / 180)));
+    CHECK(cam.near == Approx(0.9 * (dist - radius)));
+    CHECK(cam.far == Approx(1.1 * (dist + radius)));
+    Vec3 dir = normalize(cam.eye - b.center());
+    CHECK(dir.x == Approx(0.3 / std::sqrt(1.25)));
+    // Every corner of the box projects inside a square image.
+    for (int i = 0; i < 8; ++i) {
+        Vec3 p{i & 1 ? b.hi.x : b.lo.x, i & 2 ? b.hi.y : b.lo.y, i & 4 ? b.hi.z : b.lo.z};
+        Vec3 r = cam.to_raster(p, 100, 100);
+        CHECK(r.x >= 0);
+        CHECK(r.x <= 100);
+        CHECK(r.y >= 0);
+        CHECK(r.y <= 100);
+        CHECK(r.z > cam.near);
+        CHECK(r.z < cam.far);
+    }
+    Camera ortho = Camera::framing(b, Projection::Orthographic);
+    CHECK(ortho.ortho_height == Approx(2 * radius));
+    CHECK(length(ortho.eye - b.center()) == Approx(2 * radius));
+    CHECK_THROWS_AS(Camera::framing(Bounds{}), Error);
+}
+
+TEST_CASE("camera flags reproduce the camera exactly", "[camera]")
+{
+    Camera cam = Camera::perspective({0.1, 1.0 / 3, -2e-7}, {1, 2, 3}, {0, 1, 0}, 33.3, 0.01, 1e6);
+    std::string flags = cam.to_flags();
+    CHECK(flags.find("--eye 0.1,0.3333333333333333,-2e-07") != std::string::npos);
+    CHECK(flags.find("--fov 33.3") != std::string::npos);
+    CHECK(flags.find("--far 1e+06") != std::string::npos);
+}
