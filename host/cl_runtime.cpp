@@ -107,8 +107,13 @@ const char* no_platform_help =
 std::vector<cl::Platform> platforms()
 {
     std::vector<cl::Platform> list;
-    cl_int err = cl::Platform::get(&list);
-    if (err == -1001 /* CL_PLATFORM_NOT_FOUND_KHR */ || list.empty())
+    cl_int err = CL_SUCCESS;
+    try {
+        err = cl::Platform::get(&list);
+    } catch (const cl::Error& e) {
+        err = e.err();
+    }
+    if (err == -1001 /* CL_PLATFORM_NOT_FOUND_KHR */ || (err == CL_SUCCESS && list.empty()))
         throw Error(Error::Kind::Device, no_platform_help);
     if (err != CL_SUCCESS)
         throw Error(Error::Kind::Device, std::string("clGetPlatformIDs failed with ") + cl_error_name(err));
@@ -248,6 +253,27 @@ std::string build_log(const cl::Program& program)
     return log;
 }
 
+/// Keeps a built program's binary for drivers that do not cache programs themselves.
+void store_binary(const cl::Program& program, const std::filesystem::path& cache_file)
+{
+    try {
+        auto binaries = program.getInfo<CL_PROGRAM_BINARIES>();
+        std::error_code ec;
+        std::filesystem::create_directories(cache_file.parent_path(), ec);
+        std::filesystem::path tmp = cache_file;
+        tmp += ".tmp";
+        std::ofstream out(tmp, std::ios::binary);
+        if (out && !binaries.empty() && !binaries[0].empty()) {
+            out.write(reinterpret_cast<const char*>(binaries[0].data()), std::streamsize(binaries[0].size()));
+            out.close();
+            std::filesystem::rename(tmp, cache_file, ec);
+        }
+    } catch (const cl::Error&) {
+        // The on-disk cache is an optimisation: a driver that will not hand out its binary simply
+        // builds from source next time.
+    }
+}
+
 } // namespace
 
 } // namespace clvis::detail
@@ -350,12 +376,37 @@ void Device::Impl::check_allocation(std::uint64_t bytes, const std::string& what
                         info.name + " can allocate (" + std::to_string(info.max_allocation) + " bytes)");
 }
 
-cl::Program Device::Impl::program(const std::string& name, const std::string& extra)
+std::string Device::Impl::build_options(const std::string& extra) const
 {
     std::string options = "-cl-std=CL1.2";
     if (info.correctly_rounded_divide_sqrt) options += " -cl-fp32-correctly-rounded-divide-sqrt";
     if (!extra.empty()) options += " " + extra;
+    return options;
+}
 
+cl::Program Device::Impl::build_source(const std::string& name, const std::string& source, const std::string& extra)
+{
+    std::string options = build_options(extra);
+    cl::Program program;
+    try {
+        program = cl::Program(context, source);
+        program.build({device}, options.c_str());
+    } catch (const cl::BuildError& e) {
+        std::string log;
+        for (auto& [dev, text] : e.getBuildLog()) log += text;
+        throw Error(Error::Kind::Build, cl_error_name(e.err()) + " building " + name + " for " + info.name +
+                                            " with '" + options + "':\n" + log);
+    } catch (const cl::Error& e) {
+        std::string log = build_log(program);
+        throw Error(Error::Kind::Build, cl_error_name(e.err()) + " building " + name + " for " + info.name +
+                                            " with '" + options + "'" + (log.empty() ? "" : ":\n" + log));
+    }
+    return program;
+}
+
+cl::Program Device::Impl::program(const std::string& name, const std::string& extra)
+{
+    std::string options = build_options(extra);
     std::lock_guard<std::mutex> lock(mutex);
     std::string key = name + "\n" + options;
     if (auto it = programs.find(key); it != programs.end()) return it->second;
@@ -385,38 +436,8 @@ cl::Program Device::Impl::program(const std::string& name, const std::string& ex
         }
     }
     if (!from_binary) {
-        try {
-            program = cl::Program(context, source);
-            program.build({device}, options.c_str());
-        } catch (const cl::BuildError& e) {
-            std::string log;
-            for (auto& [dev, text] : e.getBuildLog()) log += text;
-            throw Error(Error::Kind::Build, cl_error_name(e.err()) + " building kernels/" + name +
-                                                ".cl for " + info.name + " with '" + options + "':\n" + log);
-        } catch (const cl::Error& e) {
-            std::string log = build_log(program);
-            throw Error(Error::Kind::Build, cl_error_name(e.err()) + " building kernels/" + name +
-                                                ".cl for " + info.name + " with '" + options + "'" +
-                                                (log.empty() ? "" : ":\n" + log));
-        }
-        if (!cache_file.empty()) {
-            try {
-                auto binaries = program.getInfo<CL_PROGRAM_BINARIES>();
-                std::error_code ec;
-                std::filesystem::create_directories(cache_file.parent_path(), ec);
-                std::filesystem::path tmp = cache_file;
-                tmp += ".tmp";
-                std::ofstream out(tmp, std::ios::binary);
-                if (out && !binaries.empty()) {
-                    out.write(reinterpret_cast<const char*>(binaries[0].data()), binaries[0].size());
-                    out.close();
-                    std::filesystem::rename(tmp, cache_file, ec);
-                }
-            } catch (const cl::Error&) {
-                // The on-disk cache is an optimisation: a driver that will not hand out its
-                // binary simply builds from source next time.
-            }
-        }
+        program = build_source("kernels/" + name + ".cl", source, extra);
+        if (!cache_file.empty()) store_binary(program, cache_file);
     }
     programs.emplace(key, program);
     return program;

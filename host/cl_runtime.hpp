@@ -37,6 +37,13 @@ struct Device::Impl {
     /// Throws Error(Build) carrying the build log.
     cl::Program program(const std::string& name, const std::string& options = {});
 
+    /// Builds `source` (named `name` in messages) with the standard options plus `options`,
+    /// without caching. Throws Error(Build) carrying the build log.
+    cl::Program build_source(const std::string& name, const std::string& source, const std::string& options);
+
+    /// The standard build options plus `extra`.
+    std::string build_options(const std::string& extra) const;
+
     /// A new in-order queue with profiling on, or the wrapped queue.
     cl::CommandQueue make_queue();
 

@@ -1,0 +1,131 @@
+// The OpenCL runtime: listing and picking devices, errors that name the call and the code, build
+// failures that carry the log, limits refused before allocating, and no platform at all.
+#include "catch.hpp"
+
+#include "cl_runtime.hpp"
+#include "embedded_kernels.hpp"
+
+#include <clvis/clvis.hpp>
+
+#include <cstdlib>
+
+using namespace clvis;
+
+TEST_CASE("the test device is PoCL's CPU device with 64-bit atomics", "[device]")
+{
+    auto devices = list_devices();
+    REQUIRE_FALSE(devices.empty());
+    Device d = Device::open(); // ctest pins CLVIS_DEVICE=cpu
+    CHECK(d.info().type == DeviceType::Cpu);
+    CHECK(d.info().int64_atomics);
+    CHECK(d.info().compute_units >= 1);
+    CHECK(d.info().max_allocation > 0);
+    CHECK(d.context() != nullptr);
+    CHECK(d.queue() != nullptr);
+}
+
+TEST_CASE("devices are picked by index, type and name, and a bad spec is named", "[device]")
+{
+    auto devices = list_devices();
+    Device by_index = Device::open("0");
+    CHECK(by_index.info().name == devices[0].name);
+    Device by_type = Device::open("cpu");
+    CHECK(by_type.info().type == DeviceType::Cpu);
+    std::string part = by_type.info().name.substr(0, 4);
+    CHECK(Device::open(part).info().name.find(part) != std::string::npos);
+    try {
+        Device::open("no-such-device-xyz");
+        FAIL("opened a device that does not exist");
+    } catch (const Error& e) {
+        CHECK(e.kind() == Error::Kind::Device);
+        CHECK(std::string(e.what()).find("no-such-device-xyz") != std::string::npos);
+    }
+    try {
+        Device::open("999");
+        FAIL("opened a device index out of range");
+    } catch (const Error& e) {
+        CHECK(e.kind() == Error::Kind::InvalidArgument);
+        CHECK(std::string(e.what()).find("999") != std::string::npos);
+    }
+}
+
+TEST_CASE("a wrapped context and queue are used as they are", "[device]")
+{
+    Device own = Device::open();
+    Device wrapped = Device::wrap(own.context(), own.queue());
+    CHECK(wrapped.context() == own.context());
+    CHECK(wrapped.queue() == own.queue());
+    CHECK(wrapped.info().name == own.info().name);
+    CHECK_THROWS_AS(Device::wrap(nullptr, own.queue()), Error);
+    Device empty;
+    CHECK_FALSE(empty);
+    CHECK_THROWS_AS(empty.info(), Error);
+}
+
+TEST_CASE("every embedded kernel builds on the device", "[device]")
+{
+    Device d = Device::open();
+    for (const auto& k : detail::embedded_kernels()) {
+        INFO("kernel file " << k.name);
+        CHECK_NOTHROW(d.impl()->program(k.name));
+    }
+}
+
+TEST_CASE("a kernel that fails to build raises an error carrying the build log", "[device]")
+{
+    Device d = Device::open();
+    try {
+        d.impl()->build_source("broken.cl", "__kernel void broken(__global int* p) { p[0] = undeclared_name; }", "");
+        FAIL("a broken kernel built");
+    } catch (const Error& e) {
+        std::string msg = e.what();
+        CHECK(e.kind() == Error::Kind::Build);
+        CHECK(msg.find("broken.cl") != std::string::npos);
+        CHECK(msg.find("CL_BUILD_PROGRAM_FAILURE") != std::string::npos);
+        CHECK(msg.find("undeclared_name") != std::string::npos); // the compiler's own words
+    }
+    CHECK_THROWS_AS(detail::embedded_kernel("no_such_kernel"), Error);
+}
+
+TEST_CASE("OpenCL error codes are named, never bare numbers", "[device]")
+{
+    CHECK(detail::cl_error_name(CL_OUT_OF_RESOURCES) == "CL_OUT_OF_RESOURCES");
+    CHECK(detail::cl_error_name(CL_INVALID_WORK_GROUP_SIZE) == "CL_INVALID_WORK_GROUP_SIZE");
+    CHECK(detail::cl_error_name(-9999) == "CL_UNKNOWN_ERROR(-9999)");
+}
+
+TEST_CASE("absurd and empty image sizes are refused before any allocation", "[device]")
+{
+    Device d = Device::open();
+    for (auto [w, h] : {std::pair{0, 10}, {10, 0}, {-5, 10}}) {
+        try {
+            VisibilityBuffer v(d, w, h);
+            FAIL("allocated a " << w << "x" << h << " buffer");
+        } catch (const Error& e) {
+            CHECK(e.kind() == Error::Kind::InvalidArgument);
+            CHECK(std::string(e.what()).find("image size") != std::string::npos);
+        }
+    }
+    try {
+        VisibilityBuffer v(d, 100000, 100000);
+        FAIL("allocated a 100000x100000 buffer");
+    } catch (const Error& e) {
+        CHECK(e.kind() == Error::Kind::Limit);
+        CHECK(std::string(e.what()).find("100000x100000") != std::string::npos);
+    }
+}
+
+// Run by its own CTest entry with OCL_ICD_VENDORS pointing at an empty folder: the ICD loader
+// then finds no platform at all.
+TEST_CASE("with no OpenCL platform the error says how to install one", "[.no_platform]")
+{
+    try {
+        list_devices();
+        FAIL("found an OpenCL platform although OCL_ICD_VENDORS names an empty folder");
+    } catch (const Error& e) {
+        CHECK(e.kind() == Error::Kind::Device);
+        CHECK(std::string(e.what()).find("no OpenCL platform") != std::string::npos);
+        CHECK(std::string(e.what()).find("pocl-opencl-icd") != std::string::npos);
+    }
+    CHECK_THROWS_AS(Device::open(), Error);
+}
