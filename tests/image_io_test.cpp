@@ -1,0 +1,111 @@
+// Image files through OpenImageIO: ids never pass through float, depth keeps +inf, row 0 on top,
+// and bad files are named.
+#include "catch.hpp"
+
+#include <clvis/clvis.hpp>
+
+#include <OpenImageIO/imageio.h>
+
+#include <filesystem>
+#include <limits>
+
+using namespace clvis;
+
+namespace {
+
+std::string temp_path(const std::string& name)
+{
+    auto dir = std::filesystem::temp_directory_path() / "clvis-image-test";
+    std::filesystem::create_directories(dir);
+    return (dir / name).string();
+}
+
+HostVisibility sample_buffer()
+{
+    HostVisibility v;
+    v.width = 5;
+    v.height = 3;
+    // Values that float32 cannot hold exactly (2^24 + 1, 2^32 - 2) and the background.
+    v.ids = {0, 1, 16777217u, 0xFFFFFFFEu, background_id, 7, 8, 9, 10, 11, 4000000001u, 13, 14, 15, 16};
+    v.depth.assign(15, 0.0f);
+    for (int i = 0; i < 15; ++i) v.depth[i] = 0.5f + i * 1e-3f;
+    v.depth[4] = std::numeric_limits<float>::infinity();
+    return v;
+}
+
+} // namespace
+
+TEST_CASE("id buffers round-trip exactly through TIFF and EXR, ids near 2^32 included", "[image]")
+{
+    HostVisibility v = sample_buffer();
+    for (const char* ext : {"tif", "tiff", "exr"}) {
+        std::string path = temp_path(std::string("ids.") + ext);
+        write_ids(path, v);
+        HostVisibility back = read_ids(path);
+        CHECK(back.width == 5);
+        CHECK(back.height == 3);
+        CHECK(back.ids == v.ids);
+        // The file holds one UINT32 channel named "id".
+        auto in = OIIO::ImageInput::open(path);
+        REQUIRE(in);
+        CHECK(in->spec().format == OIIO::TypeDesc::UINT32);
+        CHECK(in->spec().nchannels == 1);
+        // TIFF has no channel names (OpenImageIO reads its one channel as "Y"); EXR keeps "id".
+        if (std::string(ext) == "exr") CHECK(in->spec().channelnames[0] == "id");
+    }
+}
+
+TEST_CASE("depth buffers round-trip through EXR with +inf for the background", "[image]")
+{
+    HostVisibility v = sample_buffer();
+    std::string path = temp_path("depth.exr");
+    write_depth(path, v);
+    HostVisibility back;
+    read_depth(path, back);
+    CHECK(back.depth == v.depth);
+    auto in = OIIO::ImageInput::open(path);
+    REQUIRE(in);
+    CHECK(in->spec().channelnames[0] == "Z");
+    CHECK(in->spec().format == OIIO::TypeDesc::FLOAT);
+}
+
+TEST_CASE("row 0 of a written file is the top row", "[image]")
+{
+    Image img;
+    img.width = 2;
+    img.height = 2;
+    img.rgba = {255, 0, 0, 255, 255, 0, 0, 255, 0, 0, 255, 255, 0, 0, 255, 255}; // red on top
+    std::string path = temp_path("rows.png");
+    write_image(path, img);
+    auto in = OIIO::ImageInput::open(path);
+    REQUIRE(in);
+    std::vector<unsigned char> px(16);
+    REQUIRE(in->read_image(0, 0, 0, 4, OIIO::TypeDesc::UINT8, px.data()));
+    CHECK(int(px[0]) == 255); // first scanline read is red: the top
+    CHECK(int(px[2]) == 0);
+    CHECK(int(px[8]) == 0);
+    CHECK(int(px[10]) == 255);
+}
+
+TEST_CASE("wrong files and formats are named in the error", "[image]")
+{
+    HostVisibility v = sample_buffer();
+    CHECK_THROWS_WITH(write_ids(temp_path("ids.png"), v), Catch::Contains("ids.png"));
+    CHECK_THROWS_WITH(write_depth(temp_path("depth.tif"), v), Catch::Contains(".exr"));
+    CHECK_THROWS_WITH(read_ids(temp_path("missing.tif")), Catch::Contains("missing.tif"));
+    // A colour PNG is not an id buffer.
+    Image img;
+    img.width = img.height = 1;
+    img.rgba = {1, 2, 3, 255};
+    write_image(temp_path("colour.png"), img);
+    try {
+        read_ids(temp_path("colour.png"));
+        FAIL("read a colour PNG as ids");
+    } catch (const Error& e) {
+        CHECK(e.kind() == Error::Kind::Io);
+        CHECK(std::string(e.what()).find("colour.png") != std::string::npos);
+    }
+    // A float image is not an id buffer either: ids must never pass through float.
+    write_depth(temp_path("float.exr"), v);
+    CHECK_THROWS_WITH(read_ids(temp_path("float.exr")), Catch::Contains("32-bit unsigned"));
+}
