@@ -1,14 +1,32 @@
 #!/usr/bin/env bash
-# Builds clvis and runs the whole test suite: the Release build's tests (host, device on PoCL's
-# CPU device, the agreement suites), the consumer project against the installed package.
-# Run scripts/setup.sh first (the README's test command does both).
+# The whole test suite, as CI runs it (the README's test command runs scripts/setup.sh first):
+#  1. Release build; CTest: host tests, device tests on PoCL's CPU device, the agreement suites,
+#     Oclgrind over every kernel, the installed package built and run by examples/;
+#  2. AddressSanitizer + UndefinedBehaviorSanitizer build; the host tests under it;
+#  3. libFuzzer over each scene loader for FUZZ_SECONDS each (default 60).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc)
+fuzz_seconds=${FUZZ_SECONDS:-60}
+start=$(date +%s)
+stage() { echo; echo "[test] $* ($(( $(date +%s) - start )) s)"; }
 
-echo "[test] Release build"
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX="$PWD/build/install" >/dev/null
+stage "Release build"
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j "$jobs"
-cmake --install build >/dev/null
-echo "[test] ctest"
+
+stage "CTest: host, device, agreement, Oclgrind, consumer"
 ctest --test-dir build --output-on-failure -j 1
+
+stage "Sanitizer build (ASan + UBSan)"
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCLVIS_SANITIZE=ON \
+      -DCLVIS_BUILD_CLI=OFF -DCLVIS_BUILD_BENCH_REFERENCES=OFF >/dev/null
+cmake --build build-asan -j "$jobs" --target clvis_tests
+stage "Host tests under the sanitizers"
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --test-dir build-asan --output-on-failure -L host
+
+stage "Fuzzing the scene loaders (${fuzz_seconds} s per format)"
+bash scripts/fuzz.sh "$fuzz_seconds"
+
+stage "All tests passed"
