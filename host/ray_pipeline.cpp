@@ -1,22 +1,179 @@
-// Interim: the ray path is being written; until it lands, using it throws.
+// The ray path: builds the BVH on the host (bvh_build.cpp), keeps it resident on the device,
+// follows moved vertices by refit or rebuild, and enqueues one trace per frame: ray_trace.cl
+// through the BVH, or ray_brute.cl against every triangle.
 #include "pipeline.hpp"
 
-#include <clvis/error.hpp>
+#include "bvh_build.hpp"
+#include "cl_runtime.hpp"
+
+#include <array>
+#include <chrono>
 
 namespace clvis::detail {
 
-struct RayPipeline::Impl {};
-RayPipeline::RayPipeline(Device::Impl&, const RenderOptions&)
+static_assert(sizeof(clvis_bvh_node) == 32, "layout shared with kernels/shared/bvh.h");
+static_assert(sizeof(clvis_bvh_tri) == 48, "layout shared with kernels/shared/bvh.h");
+
+namespace {
+
+/// Pixels per work-item of ray_trace.cl (CLVIS_PACKET_W x CLVIS_PACKET_H): a packet of 16 rays.
+constexpr std::size_t packet_w = 4, packet_h = 4;
+/// The traversal stack grows in steps of this many entries (each step is one program build).
+constexpr int stack_step = 16;
+
+/// Work-groups (in work-items) in order of preference; the first the kernel and device allow wins.
+/// On PoCL a group of 4x4 packets (16x16 pixels) ran as fast as smaller ones and faster than 8x8
+/// (whose private stacks and packets no longer stay in cache).
+constexpr std::array<std::array<std::size_t, 2>, 5> group_choices{{{4, 4}, {4, 2}, {2, 2}, {2, 1}, {1, 1}}};
+
+double ms_since(std::chrono::steady_clock::time_point t0)
 {
-    throw Error(Error::Kind::InvalidArgument, "the ray path is not available in this build yet");
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
+
+} // namespace
+
+struct RayPipeline::Impl {
+    Device::Impl& device;
+    RenderOptions options;
+    cl::Kernel trace, brute;
+    cl::NDRange trace_group, brute_group; ///< work-items per work-group
+    int trace_stack = 0;                  ///< CLVIS_RAY_STACK of the built trace kernel
+    Bvh bvh;
+    bool built = false;
+    cl::Buffer nodes, tris;
+    BvhStats stats;
+
+    Impl(Device::Impl& d, const RenderOptions& o) : device(d), options(o) {}
+
+    /// The first preferred work-group that `kernel` may run: what CL_KERNEL_WORK_GROUP_SIZE grants.
+    cl::NDRange pick_group(const cl::Kernel& kernel) const
+    {
+        std::size_t max_group = kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device.device);
+        auto item_sizes = device.device.getInfo<CL_DEVICE_MAX_WORK_ITEM_SIZES>();
+        for (auto g : group_choices) {
+            if (g[0] * g[1] <= max_group && g[0] <= item_sizes.at(0) && g[1] <= item_sizes.at(1))
+                return cl::NDRange(g[0], g[1]);
+        }
+        throw Error(Error::Kind::Limit, "the ray kernels cannot run on " + device.info.name +
+                                            " (work-group size " + std::to_string(max_group) + ")");
+    }
+
+    /// The trace kernel with a stack for the tree's depth (a pop follows every push, and each
+    /// interior node on the current path holds at most one entry).
+    void prepare_trace()
+    {
+        int stack = (bvh.depth / stack_step + 1) * stack_step;
+        if (stack == trace_stack) return;
+        trace = cl::Kernel(device.program("ray_trace", "-DCLVIS_RAY_STACK=" + std::to_string(stack)), "ray_trace");
+        trace_group = pick_group(trace);
+        trace_stack = stack;
+    }
+
+    void upload(cl::CommandQueue& queue)
+    {
+        auto t0 = std::chrono::steady_clock::now();
+        std::uint64_t node_bytes = std::max<std::uint64_t>(bvh.nodes.size(), 1) * sizeof(clvis_bvh_node);
+        std::uint64_t tri_bytes = std::max<std::uint64_t>(bvh.tris.size(), 1) * sizeof(clvis_bvh_tri);
+        device.check_allocation(node_bytes, "the BVH's " + std::to_string(bvh.nodes.size()) + " nodes");
+        device.check_allocation(tri_bytes, "the BVH's " + std::to_string(bvh.tris.size()) + " triangles");
+        try {
+            if (!nodes() || nodes.getInfo<CL_MEM_SIZE>() != node_bytes)
+                nodes = cl::Buffer(device.context, CL_MEM_READ_ONLY, node_bytes);
+            if (!tris() || tris.getInfo<CL_MEM_SIZE>() != tri_bytes)
+                tris = cl::Buffer(device.context, CL_MEM_READ_ONLY, tri_bytes);
+            if (!bvh.nodes.empty())
+                queue.enqueueWriteBuffer(nodes, CL_FALSE, 0, bvh.nodes.size() * sizeof(clvis_bvh_node), bvh.nodes.data());
+            if (!bvh.tris.empty())
+                queue.enqueueWriteBuffer(tris, CL_FALSE, 0, bvh.tris.size() * sizeof(clvis_bvh_tri), bvh.tris.data());
+            queue.finish();
+        } catch (const cl::Error& e) {
+            throw_cl_error(e, "uploading the BVH to " + device.info.name);
+        }
+        stats.upload_ms = ms_since(t0);
+    }
+
+    void fill_stats(double build_ms, bool refitted)
+    {
+        stats.build_ms = build_ms;
+        stats.nodes = bvh.nodes.size();
+        stats.leaves = bvh.leaves;
+        stats.depth = bvh.depth;
+        stats.sah_cost = bvh.sah_cost;
+        stats.refitted = refitted;
+    }
+
+    void rebuild(const Scene& scene, cl::CommandQueue& queue)
+    {
+        BvhBuildOptions o;
+        o.max_leaf_size = options.bvh.max_leaf_size;
+        o.sah_bins = options.bvh.sah_bins;
+        auto t0 = std::chrono::steady_clock::now();
+        bvh = build_bvh(scene.world_positions().data(), scene.world_indices().data(), scene.triangle_count(), o);
+        fill_stats(ms_since(t0), false);
+        prepare_trace();
+        upload(queue);
+        built = true;
+    }
+};
+
+RayPipeline::RayPipeline(Device::Impl& device, const RenderOptions& options)
+    : impl_(std::make_unique<Impl>(device, options))
+{
+    impl_->brute = cl::Kernel(device.program("ray_brute"), "ray_brute");
+    impl_->brute_group = impl_->pick_group(impl_->brute);
+}
+
 RayPipeline::~RayPipeline() = default;
 
-} // namespace clvis::detail
-namespace clvis::detail {
-void RayPipeline::build(const Scene&, cl::CommandQueue&) {}
-void RayPipeline::update(const Scene&, cl::CommandQueue&) {}
-bool RayPipeline::built() const { return false; }
-const BvhStats& RayPipeline::stats() const { static BvhStats s; return s; }
-void RayPipeline::render(const DeviceScene&, Frame&, bool) {}
+void RayPipeline::build(const Scene& scene, cl::CommandQueue& queue) { impl_->rebuild(scene, queue); }
+
+void RayPipeline::update(const Scene& scene, cl::CommandQueue& queue)
+{
+    Impl& m = *impl_;
+    if (!m.built || m.options.bvh.update == BvhUpdate::Rebuild || m.bvh.tris.size() != scene.triangle_count()) {
+        m.rebuild(scene, queue);
+        return;
+    }
+    auto t0 = std::chrono::steady_clock::now();
+    refit_bvh(m.bvh, scene.world_positions().data(), scene.world_indices().data());
+    m.fill_stats(ms_since(t0), true);
+    m.upload(queue);
 }
+
+bool RayPipeline::built() const { return impl_->built; }
+
+const BvhStats& RayPipeline::stats() const { return impl_->stats; }
+
+void RayPipeline::render(const DeviceScene& scene, Frame& frame, bool brute)
+{
+    Impl& m = *impl_;
+    cl::Event done;
+    if (brute) {
+        cl::Kernel& k = m.brute;
+        const cl::NDRange& g = m.brute_group;
+        k.setArg(0, sizeof frame.gpu_camera, &frame.gpu_camera);
+        k.setArg(1, scene.positions);
+        k.setArg(2, scene.indices);
+        k.setArg(3, cl_uint(scene.triangle_count));
+        k.setArg(4, frame.keys);
+        cl::NDRange global(round_up(std::size_t(frame.width), g[0]), round_up(std::size_t(frame.height), g[1]));
+        frame.queue.enqueueNDRangeKernel(k, cl::NullRange, global, g, nullptr, &done);
+    } else {
+        if (!m.built) throw Error(Error::Kind::InvalidArgument, "the ray path renders before its BVH is built");
+        cl::Kernel& k = m.trace;
+        const cl::NDRange& g = m.trace_group;
+        k.setArg(0, sizeof frame.gpu_camera, &frame.gpu_camera);
+        k.setArg(1, m.nodes);
+        k.setArg(2, cl_uint(m.bvh.nodes.size()));
+        k.setArg(3, m.tris);
+        k.setArg(4, frame.keys);
+        std::size_t packets_x = (std::size_t(frame.width) + packet_w - 1) / packet_w;
+        std::size_t packets_y = (std::size_t(frame.height) + packet_h - 1) / packet_h;
+        cl::NDRange global(round_up(packets_x, g[0]), round_up(packets_y, g[1]));
+        frame.queue.enqueueNDRangeKernel(k, cl::NullRange, global, g, nullptr, &done);
+    }
+    frame.stages->add("trace", done);
+}
+
+} // namespace clvis::detail

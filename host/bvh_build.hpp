@@ -1,0 +1,52 @@
+// Builds the BVH of a scene on the host (binned SAH, Wald 2007), in parallel and deterministically,
+// and flattens it into the layout of kernels/shared/bvh.h; refits it after vertices move. Consumed
+// by ray_pipeline.cpp, which uploads the result for ray_trace.cl.
+#pragma once
+
+#include "shared/bvh.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace clvis::detail {
+
+enum class BvhSplit {
+    Sah,    ///< binned surface area heuristic; object median where it cannot split
+    Median, ///< object median on the widest centroid axis (a reference for tests)
+};
+
+struct BvhBuildOptions {
+    int max_leaf_size = 4;   ///< triangles per leaf at most, 1..64
+    int sah_bins = 16;       ///< bins per axis, 2..256
+    BvhSplit split = BvhSplit::Sah;
+    unsigned threads = 0;    ///< worker threads; 0: the machine's hardware threads
+};
+
+/// Depth (nodes on a root-to-leaf path) past which the build splits at the median, so that a
+/// pathological scene cannot make the tree (and the traversal stack) deeper than about
+/// max_sah_depth + log2(triangles).
+constexpr int bvh_max_sah_depth = 48;
+
+struct Bvh {
+    std::vector<clvis_bvh_node> nodes;   ///< depth-first; empty for a scene without triangles
+    std::vector<clvis_bvh_tri> tris;     ///< leaf slots: each leaf's triangles contiguous
+    std::size_t leaves = 0;
+    int depth = 0;                       ///< nodes on the longest root-to-leaf path
+    double sah_cost = 0;                 ///< see bvh_sah_cost
+};
+
+/// Builds the BVH of `triangle_count` triangles given by `indices` (3 per triangle, id order)
+/// into `positions` (3 floats per vertex). Same input, same bits, whatever the threads do.
+Bvh build_bvh(const float* positions, const std::uint32_t* indices, std::size_t triangle_count,
+              const BvhBuildOptions& options);
+
+/// Recomputes every box bottom-up and the leaf triangles' vertices from moved `positions`
+/// (same indices): the topology stays.
+void refit_bvh(Bvh& bvh, const float* positions, const std::uint32_t* indices);
+
+/// SAH cost relative to the root: sum over interior nodes of area, plus over leaves of area times
+/// triangles, divided by the root's area (1 traversal step and 1 triangle test cost the same).
+double bvh_sah_cost(const std::vector<clvis_bvh_node>& nodes);
+
+} // namespace clvis::detail

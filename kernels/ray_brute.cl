@@ -1,0 +1,32 @@
+/* Casts one primary ray per pixel centre against every triangle of the scene, in id order, with
+   the same watertight test as ray_trace.cl but no BVH: the reference the BVH path must equal,
+   and the brute path of host/ray_pipeline.cpp for small scenes. */
+#include "shared/camera.h"
+#include "shared/ray.h"
+#include "shared/visibility.h"
+
+static clvis_vec3 load_vertex(__global const float* positions, uint v)
+{
+    clvis_vec3 p = {positions[3 * (size_t)v], positions[3 * (size_t)v + 1], positions[3 * (size_t)v + 2]};
+    return p;
+}
+
+__kernel void ray_brute(clvis_camera_gpu cam, __global const float* positions, __global const uint* indices,
+                        uint triangle_count, __global ulong* keys)
+{
+    int px = (int)get_global_id(0), py = (int)get_global_id(1);
+    if (px >= cam.width || py >= cam.height) return;
+    clvis_vec3 origin, dir;
+    clvis_primary_ray(cam, (float)px + 0.5f, (float)py + 0.5f, &origin, &dir);
+    clvis_ray_shear ray = clvis_make_shear(origin, dir);
+    ulong best = CLVIS_BACKGROUND_KEY;
+    for (uint id = 0; id < triangle_count; ++id) {
+        size_t i = 3 * (size_t)id;
+        float t;
+        int hit = clvis_intersect_triangle(ray, load_vertex(positions, indices[i]), load_vertex(positions, indices[i + 1]),
+                                           load_vertex(positions, indices[i + 2]), cam.near_d, cam.far_d, &t);
+        ulong key = clvis_make_key(t, id);
+        best = hit && key < best ? key : best;
+    }
+    keys[(size_t)py * (size_t)cam.width + (size_t)px] = best;
+}

@@ -1,0 +1,266 @@
+/* Casts one primary ray per pixel centre through the BVH (shared/bvh.h) and writes the visibility
+   key of every pixel; launched by host/ray_pipeline.cpp. Each work-item traces a packet of 4x4
+   pixels as the 16 lanes of OpenCL vectors (Wald et al., "Interactive rendering with coherent ray
+   tracing", 2001): one walk of the tree per packet, nearest child first, with a short stack; every
+   box and triangle test runs on all 16 rays at once, the same operations as the scalar tests of
+   shared/ray.h, so each ray gets the bits that ray_brute.cl computes for it. A node is skipped when
+   no ray of the packet can meet it before its nearest hit so far. Work-groups are screen tiles. */
+#include "shared/bvh.h"
+#include "shared/camera.h"
+#include "shared/ray.h"
+#include "shared/visibility.h"
+
+#define CLVIS_PACKET_W 4                                /* pixels */
+#define CLVIS_PACKET_H 4                                /* pixels */
+#define CLVIS_PACKET (CLVIS_PACKET_W * CLVIS_PACKET_H)  /* rays: the lanes of float16 */
+#define CLVIS_RAY_NONE 0xFFFFFFFFu
+
+/* CLVIS_RAY_STACK (entries, at least the tree's depth) is set by the host at build time. */
+#ifndef CLVIS_RAY_STACK
+#error "CLVIS_RAY_STACK must be defined"
+#endif
+
+typedef float16 lanes_f;
+typedef int16 lanes_i;
+typedef uint16 lanes_u;
+
+/* The packet's rays, lane l = pixel (l % 4, l / 4) of the packet. */
+typedef struct packet {
+    lanes_f ox, oy, oz;          /* origin, world axes */
+    lanes_f ix, iy, iz;          /* 1 / direction */
+    lanes_i nx, ny, nz;          /* 1 / direction < 0: the slab is entered through hi */
+    lanes_f px, py, pz;          /* origin permuted to the shear's axes (kx, ky, kz) */
+    lanes_f sx, sy, sz;          /* shear (clvis_ray_shear) */
+    lanes_i kx0, kx1, ky0, ky1, kz0, kz1; /* kx == 0, kx == 1, ...: per-lane permutation */
+    int uniform;                 /* every lane has the same permutation, (ukx, uky, ukz) */
+    int ukx, uky, ukz;
+} packet;
+
+static float pick(float x, float y, float z, int k) { return k == 0 ? x : (k == 1 ? y : z); }
+
+static float hmin(lanes_f v)
+{
+    float8 a = fmin(v.lo, v.hi);
+    float4 b = fmin(a.lo, a.hi);
+    float2 c = fmin(b.lo, b.hi);
+    return fmin(c.x, c.y);
+}
+
+static float hmax(lanes_f v)
+{
+    float8 a = fmax(v.lo, v.hi);
+    float4 b = fmax(a.lo, a.hi);
+    float2 c = fmax(b.lo, b.hi);
+    return fmax(c.x, c.y);
+}
+
+/* clvis_raise / clvis_lower on lanes: a NaN v leaves acc. */
+static lanes_f raise(lanes_f acc, lanes_f v) { return select(acc, v, v > acc); }
+static lanes_f lower(lanes_f acc, lanes_f v) { return select(acc, v, v < acc); }
+
+/* clvis_ray_hits_box on every lane; `limit` is each ray's far distance (far, or its nearest hit). */
+static lanes_i packet_hits_box(const packet* p, __global const clvis_bvh_node* n, float near_t, lanes_f limit,
+                               lanes_f* entry)
+{
+    lanes_f lox = (lanes_f)(n->lo_x), loy = (lanes_f)(n->lo_y), loz = (lanes_f)(n->lo_z);
+    lanes_f hix = (lanes_f)(n->hi_x), hiy = (lanes_f)(n->hi_y), hiz = (lanes_f)(n->hi_z);
+    lanes_f tnx = (select(lox, hix, p->nx) - p->ox) * p->ix;
+    lanes_f tny = (select(loy, hiy, p->ny) - p->oy) * p->iy;
+    lanes_f tnz = (select(loz, hiz, p->nz) - p->oz) * p->iz;
+    lanes_f tfx = (select(hix, lox, p->nx) - p->ox) * p->ix;
+    lanes_f tfy = (select(hiy, loy, p->ny) - p->oy) * p->iy;
+    lanes_f tfz = (select(hiz, loz, p->nz) - p->oz) * p->iz;
+    lanes_f t0 = raise(raise(raise((lanes_f)(near_t), tnx), tny), tnz);
+    lanes_f t1 = lower(lower(lower((lanes_f)(CLVIS_INFINITY), tfx), tfy), tfz) * CLVIS_IZE_SCALE;
+    *entry = t0;
+    return (t0 <= t1) & (t0 <= limit * CLVIS_IZE_SCALE);
+}
+
+static lanes_f permuted(float x, float y, float z, lanes_i k0, lanes_i k1)
+{
+    return select(select((lanes_f)(z), (lanes_f)(y), k1), (lanes_f)(x), k0);
+}
+
+/* clvis_intersect_triangle on every lane, keeping each lane's nearest key (t bits, then id). The
+   vertices are permuted to each lane's shear axes and the lane's permuted origin subtracted: the
+   same single subtraction as the scalar test, whichever comes first. */
+static void packet_test_triangle(const packet* p, __global const clvis_bvh_tri* tri, float near_t, float far_t,
+                                 lanes_u* best_t, lanes_u* best_id)
+{
+    float v[9] = {tri->v0_x, tri->v0_y, tri->v0_z, tri->v1_x, tri->v1_y, tri->v1_z, tri->v2_x, tri->v2_y, tri->v2_z};
+    lanes_f akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz;
+    if (p->uniform) {
+        akx = (lanes_f)(pick(v[0], v[1], v[2], p->ukx)) - p->px;
+        aky = (lanes_f)(pick(v[0], v[1], v[2], p->uky)) - p->py;
+        akz = (lanes_f)(pick(v[0], v[1], v[2], p->ukz)) - p->pz;
+        bkx = (lanes_f)(pick(v[3], v[4], v[5], p->ukx)) - p->px;
+        bky = (lanes_f)(pick(v[3], v[4], v[5], p->uky)) - p->py;
+        bkz = (lanes_f)(pick(v[3], v[4], v[5], p->ukz)) - p->pz;
+        ckx = (lanes_f)(pick(v[6], v[7], v[8], p->ukx)) - p->px;
+        cky = (lanes_f)(pick(v[6], v[7], v[8], p->uky)) - p->py;
+        ckz = (lanes_f)(pick(v[6], v[7], v[8], p->ukz)) - p->pz;
+    } else {
+        akx = permuted(v[0], v[1], v[2], p->kx0, p->kx1) - p->px;
+        aky = permuted(v[0], v[1], v[2], p->ky0, p->ky1) - p->py;
+        akz = permuted(v[0], v[1], v[2], p->kz0, p->kz1) - p->pz;
+        bkx = permuted(v[3], v[4], v[5], p->kx0, p->kx1) - p->px;
+        bky = permuted(v[3], v[4], v[5], p->ky0, p->ky1) - p->py;
+        bkz = permuted(v[3], v[4], v[5], p->kz0, p->kz1) - p->pz;
+        ckx = permuted(v[6], v[7], v[8], p->kx0, p->kx1) - p->px;
+        cky = permuted(v[6], v[7], v[8], p->ky0, p->ky1) - p->py;
+        ckz = permuted(v[6], v[7], v[8], p->kz0, p->kz1) - p->pz;
+    }
+    lanes_f ax = akx - p->sx * akz;
+    lanes_f ay = aky - p->sy * akz;
+    lanes_f bx = bkx - p->sx * bkz;
+    lanes_f by = bky - p->sy * bkz;
+    lanes_f cx = ckx - p->sx * ckz;
+    lanes_f cy = cky - p->sy * ckz;
+    lanes_f u = cx * by - cy * bx;
+    lanes_f w_ = ax * cy - ay * cx;
+    lanes_f w = bx * ay - by * ax;
+    lanes_i outside = ((u < 0.0f) | (w_ < 0.0f) | (w < 0.0f)) & ((u > 0.0f) | (w_ > 0.0f) | (w > 0.0f));
+    lanes_f det = u + w_ + w;
+    lanes_f tz = u * (p->sz * akz) + w_ * (p->sz * bkz) + w * (p->sz * ckz);
+    lanes_f t = tz / det;
+    lanes_i hit = ~outside & (det != 0.0f) & (t >= near_t) & (t <= far_t);
+    lanes_u bits = as_uint16(t), id = (lanes_u)(tri->id);
+    lanes_i nearer = hit & ((bits < *best_t) | ((bits == *best_t) & (id < *best_id)));
+    *best_t = select(*best_t, bits, nearer);
+    *best_id = select(*best_id, id, nearer);
+}
+
+/* Lane l's pixel offset within the packet: (l % 4, l / 4). */
+#define CLVIS_LANE_X ((lanes_i)(0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3))
+#define CLVIS_LANE_Y ((lanes_i)(0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3))
+
+static lanes_f component(lanes_f x, lanes_f y, lanes_f z, lanes_i k)
+{
+    return select(select(z, y, k == 1), x, k == 0);
+}
+
+/* The packet's rays: clvis_primary_ray, clvis_make_shear and clvis_make_box_ray on 16 lanes, the
+   same operations in the same order, so each lane holds the bits the scalar code gives its pixel.
+   Lanes past the image's edge repeat the edge pixel's ray and are not written. */
+static packet make_packet(clvis_camera_gpu cam, int x0, int y0)
+{
+    lanes_f rx = convert_float16(min((lanes_i)(x0) + CLVIS_LANE_X, (lanes_i)(cam.width - 1))) + 0.5f;
+    lanes_f ry = convert_float16(min((lanes_i)(y0) + CLVIS_LANE_Y, (lanes_i)(cam.height - 1))) + 0.5f;
+    /* clvis_screen_from_raster */
+    lanes_f sx = (2.0f * rx / (float)cam.width - 1.0f) * cam.right;
+    lanes_f sy = (1.0f - 2.0f * ry / (float)cam.height) * cam.top;
+    /* clvis_primary_ray */
+    lanes_f ox, oy, oz, dx, dy, dz;
+    if (cam.ortho) {
+        ox = cam.eye_x + sx * cam.r_x + sy * cam.u_x;
+        oy = cam.eye_y + sx * cam.r_y + sy * cam.u_y;
+        oz = cam.eye_z + sx * cam.r_z + sy * cam.u_z;
+        dx = (lanes_f)(cam.f_x);
+        dy = (lanes_f)(cam.f_y);
+        dz = (lanes_f)(cam.f_z);
+    } else {
+        ox = (lanes_f)(cam.eye_x);
+        oy = (lanes_f)(cam.eye_y);
+        oz = (lanes_f)(cam.eye_z);
+        dx = sx * cam.r_x + sy * cam.u_x + cam.f_x;
+        dy = sx * cam.r_y + sy * cam.u_y + cam.f_y;
+        dz = sx * cam.r_z + sy * cam.u_z + cam.f_z;
+    }
+    /* clvis_make_shear */
+    lanes_f ax = fabs(dx), ay = fabs(dy), az = fabs(dz);
+    lanes_i kz = select(select((lanes_i)(2), (lanes_i)(1), ay >= az), (lanes_i)(0), (ax >= ay) & (ax >= az));
+    lanes_i kx = select(kz + 1, (lanes_i)(0), kz == 2);
+    lanes_i ky = select(kx + 1, (lanes_i)(0), kx == 2);
+    lanes_f d_kz = component(dx, dy, dz, kz);
+    lanes_i swap = d_kz < 0.0f;
+    lanes_i kx_s = select(kx, ky, swap);
+    ky = select(ky, kx, swap);
+    kx = kx_s;
+    packet p;
+    p.sx = component(dx, dy, dz, kx) / d_kz;
+    p.sy = component(dx, dy, dz, ky) / d_kz;
+    p.sz = 1.0f / d_kz;
+    p.px = component(ox, oy, oz, kx);
+    p.py = component(ox, oy, oz, ky);
+    p.pz = component(ox, oy, oz, kz);
+    p.kx0 = kx == 0; p.kx1 = kx == 1;
+    p.ky0 = ky == 0; p.ky1 = ky == 1;
+    p.kz0 = kz == 0; p.kz1 = kz == 1;
+    p.ukx = kx.s0; p.uky = ky.s0; p.ukz = kz.s0;
+    p.uniform = !any((kx != p.ukx) | (ky != p.uky));
+    /* clvis_make_box_ray */
+    p.ox = ox; p.oy = oy; p.oz = oz;
+    p.ix = 1.0f / dx; p.iy = 1.0f / dy; p.iz = 1.0f / dz;
+    p.nx = p.ix < 0.0f; p.ny = p.iy < 0.0f; p.nz = p.iz < 0.0f;
+    return p;
+}
+
+__kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh_node* restrict nodes, uint node_count,
+                        __global const clvis_bvh_tri* restrict tris, __global ulong* restrict keys)
+{
+    int x0 = (int)get_global_id(0) * CLVIS_PACKET_W, y0 = (int)get_global_id(1) * CLVIS_PACKET_H;
+    if (x0 >= cam.width || y0 >= cam.height) return; /* the launch is rounded up to whole tiles */
+    packet p = make_packet(cam, x0, y0);
+    lanes_u best_t = (lanes_u)(clvis_float_bits(CLVIS_INFINITY)), best_id = (lanes_u)(CLVIS_BACKGROUND_ID);
+    lanes_f limit = (lanes_f)(cam.far_d);
+
+    uint stack_node[CLVIS_RAY_STACK];
+    float stack_t[CLVIS_RAY_STACK];
+    uint sp = 0;
+    lanes_f entry_a, entry_b;
+    uint node = node_count > 0 && any(packet_hits_box(&p, nodes, cam.near_d, limit, &entry_a)) ? 0u : CLVIS_RAY_NONE;
+    while (node != CLVIS_RAY_NONE) {
+        __global const clvis_bvh_node* nd = nodes + node;
+        if (nd->count > 0) {
+            for (uint k = nd->first; k < nd->first + nd->count; ++k)
+                packet_test_triangle(&p, tris + k, cam.near_d, cam.far_d, &best_t, &best_id);
+            limit = fmin((lanes_f)(cam.far_d), as_float16(best_t));
+            /* Pop the next node that some ray may still reach before its nearest hit. */
+            float cull = hmax(limit) * CLVIS_IZE_SCALE;
+            node = CLVIS_RAY_NONE;
+            while (sp > 0) {
+                --sp;
+                if (stack_t[sp] <= cull) {
+                    node = stack_node[sp];
+                    break;
+                }
+            }
+            continue;
+        }
+        uint a = node + 1, b = nd->first;
+        lanes_i ha = packet_hits_box(&p, nodes + a, cam.near_d, limit, &entry_a);
+        lanes_i hb = packet_hits_box(&p, nodes + b, cam.near_d, limit, &entry_b);
+        int any_a = any(ha), any_b = any(hb);
+        if (any_a && any_b) {
+            /* Nearest child first: the one some ray enters first. */
+            float ta = hmin(select((lanes_f)(CLVIS_INFINITY), entry_a, ha));
+            float tb = hmin(select((lanes_f)(CLVIS_INFINITY), entry_b, hb));
+            int b_first = tb < ta;
+            node = b_first ? b : a;
+            stack_node[sp] = b_first ? a : b;
+            stack_t[sp] = b_first ? ta : tb;
+            ++sp;
+        } else if (any_a || any_b) {
+            node = any_a ? a : b;
+        } else {
+            float cull = hmax(limit) * CLVIS_IZE_SCALE;
+            node = CLVIS_RAY_NONE;
+            while (sp > 0) {
+                --sp;
+                if (stack_t[sp] <= cull) {
+                    node = stack_node[sp];
+                    break;
+                }
+            }
+        }
+    }
+
+    uint t_bits[CLVIS_PACKET], ids[CLVIS_PACKET];
+    vstore16(best_t, 0, t_bits);
+    vstore16(best_id, 0, ids);
+    for (int l = 0; l < CLVIS_PACKET; ++l) {
+        int x = x0 + l % CLVIS_PACKET_W, y = y0 + l / CLVIS_PACKET_W;
+        if (x < cam.width && y < cam.height)
+            keys[(size_t)y * (size_t)cam.width + (size_t)x] = ((ulong)t_bits[l] << 32) | ids[l];
+    }
+}
