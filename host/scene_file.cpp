@@ -1,0 +1,314 @@
+// Files into scenes: load_mesh reads a whole file and picks a parser (host/scene_obj.cpp,
+// scene_ply.cpp, scene_stl.cpp) by extension, else by content; load_scene_file reads the JSON
+// scene file (meshes, transforms, camera, image size); load_scene puts paths into one Scene.
+#include "scene_parsers.hpp"
+
+#include <clvis/scene_io.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+
+#ifdef CLVIS_HAVE_JSON
+#include <nlohmann/json.hpp>
+#endif
+
+namespace clvis {
+
+namespace detail {
+
+std::string read_file(const std::string& path)
+{
+    std::error_code ec;
+    auto status = std::filesystem::status(path, ec);
+    if (ec || !std::filesystem::exists(status))
+        fail(path, "cannot read: " + (ec ? ec.message() : std::string("no such file")));
+    if (!std::filesystem::is_regular_file(status)) fail(path, "cannot read: not a regular file");
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+    if (!f) fail(path, std::string("cannot open: ") + std::strerror(errno));
+    std::string data;
+    std::uintmax_t size = std::filesystem::file_size(path, ec);
+    if (!ec) data.resize(std::size_t(size));
+    std::size_t got = data.empty() ? 0 : std::fread(data.data(), 1, data.size(), f.get());
+    data.resize(got);
+    char buffer[65536]; // the file may have grown since it was measured
+    while (std::size_t n = std::fread(buffer, 1, sizeof buffer, f.get())) data.append(buffer, n);
+    if (std::ferror(f.get())) fail(path, std::string("read error: ") + std::strerror(errno));
+    return data;
+}
+
+MeshFormat format_from_extension(const std::string& path)
+{
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+    if (ext == ".obj") return MeshFormat::Obj;
+    if (ext == ".ply") return MeshFormat::Ply;
+    if (ext == ".stl") return MeshFormat::Stl;
+    return MeshFormat::Unknown;
+}
+
+namespace {
+
+bool starts_with_word(std::string_view s, std::string_view word)
+{
+    return s.compare(0, word.size(), word) == 0 &&
+           (s.size() == word.size() || std::isspace(static_cast<unsigned char>(s[word.size()])));
+}
+
+/// The first statement of an OBJ file is one of its keywords (after blank and comment lines).
+bool looks_like_obj(std::string_view s)
+{
+    static const char* keywords[] = {"v", "vt", "vn", "vp", "f", "o", "g", "s", "l", "p", "mtllib", "usemtl"};
+    std::size_t i = 0;
+    while (i < s.size()) {
+        while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
+        if (i < s.size() && s[i] == '#') {
+            while (i < s.size() && s[i] != '\n') ++i;
+            continue;
+        }
+        for (const char* k : keywords)
+            if (starts_with_word(s.substr(i), k)) return true;
+        return false;
+    }
+    return false;
+}
+
+} // namespace
+
+MeshFormat format_from_content(std::string_view bytes)
+{
+    if (bytes.compare(0, 4, "ply\n") == 0 || bytes.compare(0, 5, "ply\r\n") == 0) return MeshFormat::Ply;
+    if (bytes.size() >= 84) {
+        const auto* p = reinterpret_cast<const unsigned char*>(bytes.data()) + 80;
+        std::uint64_t n = std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 | std::uint32_t(p[3]) << 24;
+        if (bytes.size() == 84 + 50 * n) return MeshFormat::Stl;
+    }
+    std::size_t i = 0;
+    while (i < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[i]))) ++i;
+    if (starts_with_word(bytes.substr(i), "solid")) return MeshFormat::Stl;
+    if (looks_like_obj(bytes)) return MeshFormat::Obj;
+    return MeshFormat::Unknown;
+}
+
+MeshData parse_mesh(std::string_view bytes, const std::string& path)
+{
+    MeshFormat format = format_from_extension(path);
+    if (format == MeshFormat::Unknown) format = format_from_content(bytes);
+    switch (format) {
+    case MeshFormat::Obj: return parse_obj(bytes, path);
+    case MeshFormat::Ply: return parse_ply(bytes, path);
+    case MeshFormat::Stl: return parse_stl(bytes, path);
+    case MeshFormat::Unknown: break;
+    }
+    if (bytes.empty()) fail(path, "empty file, contains no triangles");
+    fail(path, "unknown mesh format: not .obj, .ply or .stl, and the content is none of them");
+}
+
+#ifdef CLVIS_HAVE_JSON
+
+namespace {
+
+using Json = nlohmann::json;
+
+/// Scene files are shallow; a deeper document is refused before it can exhaust the stack.
+constexpr int CLVIS_SCENE_MAX_DEPTH = 32;
+/// Largest image side a scene file may ask for, in pixels.
+constexpr std::int64_t CLVIS_SCENE_MAX_SIDE = 65536;
+
+class SceneReader {
+public:
+    SceneReader(const std::string& path, const std::function<MeshData(const std::string&)>& load)
+        : path_(path), load_(load)
+    {
+    }
+
+    SceneFile read(std::string_view text)
+    {
+        Json root = parse(text);
+        if (!root.is_object()) fail(path_, "expected a JSON object at the top level");
+        for (auto it = root.begin(); it != root.end(); ++it)
+            if (it.key() != "meshes" && it.key() != "camera" && it.key() != "width" && it.key() != "height")
+                bad(it.key(), "unknown field");
+        SceneFile out;
+        meshes(root, out.scene);
+        if (root.contains("camera")) out.camera = camera(root["camera"]);
+        out.width = side(root, "width");
+        out.height = side(root, "height");
+        return out;
+    }
+
+private:
+    [[noreturn]] void bad(const std::string& where, const std::string& what) const { fail(path_, where + ": " + what); }
+
+    Json parse(std::string_view text) const
+    {
+        Json::parser_callback_t limit = [this](int depth, Json::parse_event_t, Json&) {
+            if (depth > CLVIS_SCENE_MAX_DEPTH)
+                fail(path_, "JSON nested deeper than " + std::to_string(CLVIS_SCENE_MAX_DEPTH) + " levels");
+            return true;
+        };
+        try {
+            return Json::parse(text.begin(), text.end(), limit);
+        } catch (const Json::exception& e) {
+            fail(path_, std::string("invalid JSON: ") + e.what());
+        }
+    }
+
+    double number(const Json& j, const std::string& where) const
+    {
+        if (!j.is_number()) bad(where, "expected a number");
+        double v = j.get<double>();
+        if (!std::isfinite(v)) bad(where, "expected a finite number");
+        return v;
+    }
+
+    std::vector<double> numbers(const Json& j, std::size_t count, const std::string& where) const
+    {
+        if (!j.is_array() || j.size() != count) bad(where, "expected " + std::to_string(count) + " numbers");
+        std::vector<double> v;
+        for (std::size_t i = 0; i < count; ++i) v.push_back(number(j[i], where + "[" + std::to_string(i) + "]"));
+        return v;
+    }
+
+    Vec3 vec3(const Json& j, const std::string& where) const
+    {
+        std::vector<double> v = numbers(j, 3, where);
+        return {v[0], v[1], v[2]};
+    }
+
+    void meshes(const Json& root, Scene& scene) const
+    {
+        if (!root.contains("meshes")) bad("meshes", "missing (a scene file names at least one mesh)");
+        const Json& list = root["meshes"];
+        if (!list.is_array() || list.empty()) bad("meshes", "expected a non-empty array of {\"file\": ...}");
+        std::filesystem::path folder = std::filesystem::path(path_).parent_path();
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            std::string at = "meshes[" + std::to_string(i) + "]";
+            const Json& m = list[i];
+            if (!m.is_object()) bad(at, "expected an object {\"file\": ..., \"transform\": [16 numbers]}");
+            for (auto it = m.begin(); it != m.end(); ++it)
+                if (it.key() != "file" && it.key() != "transform") bad(at + "." + it.key(), "unknown field");
+            if (!m.contains("file") || !m["file"].is_string() || m["file"].get_ref<const std::string&>().empty())
+                bad(at + ".file", "expected a file name");
+            Mat4 transform;
+            if (m.contains("transform")) transform = matrix(m["transform"], at + ".transform");
+            std::filesystem::path file = m["file"].get<std::string>();
+            if (file.is_relative()) file = folder / file;
+            MeshData mesh;
+            try {
+                mesh = load_(file.string());
+            } catch (const Error& e) {
+                throw Error(e.kind(), path_ + ": " + at + ".file: " + e.what());
+            }
+            scene.add_mesh(std::move(mesh), transform);
+        }
+    }
+
+    Mat4 matrix(const Json& j, const std::string& where) const
+    {
+        std::vector<double> v = numbers(j, 16, where);
+        Mat4 t;
+        std::copy(v.begin(), v.end(), t.m.begin());
+        if (t(3, 0) != 0 || t(3, 1) != 0 || t(3, 2) != 0 || t(3, 3) != 1)
+            bad(where, "the last row must be 0 0 0 1 (an affine transform, row by row)");
+        return t;
+    }
+
+    Camera camera(const Json& j) const
+    {
+        if (!j.is_object()) bad("camera", "expected an object");
+        static const char* fields[] = {"eye", "target", "up", "fov", "ortho", "near", "far"};
+        for (auto it = j.begin(); it != j.end(); ++it)
+            if (std::none_of(std::begin(fields), std::end(fields), [&](const char* f) { return it.key() == f; }))
+                bad("camera." + it.key(), "unknown field");
+        Camera c;
+        if (!j.contains("eye")) bad("camera.eye", "missing");
+        if (!j.contains("target")) bad("camera.target", "missing");
+        c.eye = vec3(j["eye"], "camera.eye");
+        c.target = vec3(j["target"], "camera.target");
+        if (j.contains("up")) c.up = vec3(j["up"], "camera.up");
+        if (j.contains("fov") && j.contains("ortho")) bad("camera", "give either fov or ortho, not both");
+        if (j.contains("fov")) c.fov_y = number(j["fov"], "camera.fov");
+        if (j.contains("ortho")) {
+            c.projection = Projection::Orthographic;
+            c.ortho_height = number(j["ortho"], "camera.ortho");
+        }
+        if (j.contains("near")) c.near = number(j["near"], "camera.near");
+        if (j.contains("far")) c.far = number(j["far"], "camera.far");
+        try {
+            c.validate();
+        } catch (const Error& e) {
+            bad("camera", e.what());
+        }
+        return c;
+    }
+
+    int side(const Json& root, const char* key) const
+    {
+        if (!root.contains(key)) return 0;
+        const Json& j = root[key];
+        if (!j.is_number_integer() || j.get<std::int64_t>() < 1 || j.get<std::int64_t>() > CLVIS_SCENE_MAX_SIDE)
+            bad(key, "expected an integer from 1 to " + std::to_string(CLVIS_SCENE_MAX_SIDE));
+        return int(j.get<std::int64_t>());
+    }
+
+    const std::string& path_;
+    const std::function<MeshData(const std::string&)>& load_;
+};
+
+} // namespace
+
+SceneFile parse_scene_file(std::string_view text, const std::string& path,
+                           const std::function<MeshData(const std::string&)>& load)
+{
+    return SceneReader(path, load).read(text);
+}
+
+#else
+
+SceneFile parse_scene_file(std::string_view, const std::string& path, const std::function<MeshData(const std::string&)>&)
+{
+    fail(path, "cannot read scene files: this build of clvis was made without nlohmann::json");
+}
+
+#endif
+
+} // namespace detail
+
+MeshData load_mesh(const std::string& path)
+{
+    std::string bytes = detail::read_file(path);
+    return detail::parse_mesh(bytes, path);
+}
+
+SceneFile load_scene_file(const std::string& path)
+{
+    std::string text = detail::read_file(path);
+    return detail::parse_scene_file(text, path, load_mesh);
+}
+
+Scene load_scene(const std::vector<std::string>& paths)
+{
+    if (paths.empty()) throw Error(Error::Kind::InvalidArgument, "load_scene: no files given");
+    Scene scene;
+    for (const std::string& path : paths) {
+        std::string ext = std::filesystem::path(path).extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+        if (ext == ".json") {
+            if (paths.size() != 1)
+                throw Error(Error::Kind::InvalidArgument,
+                            "load_scene: the scene file " + path + " must be the only path (got " +
+                                std::to_string(paths.size()) + ")");
+            return load_scene_file(path).scene;
+        }
+        scene.add_mesh(load_mesh(path));
+    }
+    return scene;
+}
+
+} // namespace clvis

@@ -1,0 +1,54 @@
+// The mesh and scene parsers behind load_mesh and load_scene_file, from memory: the file
+// loaders (host/scene_file.cpp) read a whole file and call these; the fuzz targets
+// (tests/fuzz/) call them directly. `name` is the file name that every error message starts with.
+#pragma once
+
+#include <clvis/error.hpp>
+#include <clvis/scene.hpp>
+#include <clvis/scene_io.hpp>
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <string_view>
+
+namespace clvis::detail {
+
+/// Wavefront OBJ: positions, faces fanned in file order, normals kept when every face names them
+/// and each position is given one normal.
+MeshData parse_obj(std::string_view text, const std::string& name);
+/// PLY: ascii, binary_little_endian, binary_big_endian.
+MeshData parse_ply(std::string_view bytes, const std::string& name);
+/// STL: ascii or binary (binary when the size is exactly 84 + 50 n, or when the file does not
+/// start with "solid"). Every facet gets three vertices of its own: nothing is welded.
+MeshData parse_stl(std::string_view bytes, const std::string& name);
+
+enum class MeshFormat { Obj, Ply, Stl, Unknown };
+/// The format by the file's extension (case-insensitive), else Unknown.
+MeshFormat format_from_extension(const std::string& path);
+/// The format by the content: "ply" magic, STL ("solid" or the binary size rule), OBJ keywords.
+MeshFormat format_from_content(std::string_view bytes);
+/// Dispatches to a parser by extension, else by content.
+MeshData parse_mesh(std::string_view bytes, const std::string& path);
+
+/// The JSON scene file; `load` reads each mesh (given the path already joined to the scene's
+/// folder). Without nlohmann::json at build time this throws Error(Io) saying so.
+SceneFile parse_scene_file(std::string_view text, const std::string& path,
+                           const std::function<MeshData(const std::string&)>& load);
+
+/// The whole content of a regular file; Error(Io) naming the file when it is missing, not a
+/// regular file, or unreadable.
+std::string read_file(const std::string& path);
+
+/// Error(Io) with the message "<name>: <what>".
+[[noreturn]] inline void fail(const std::string& name, const std::string& what)
+{
+    throw Error(Error::Kind::Io, name + ": " + what);
+}
+/// Error(Io) with the message "<name>:<line>: <what>" (text formats).
+[[noreturn]] inline void fail_at_line(const std::string& name, std::size_t line, const std::string& what)
+{
+    throw Error(Error::Kind::Io, name + ":" + std::to_string(line) + ": " + what);
+}
+
+} // namespace clvis::detail
