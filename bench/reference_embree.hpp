@@ -1,0 +1,55 @@
+// The ray-casting reference: Intel Embree 3 with a robust, high-quality BVH over the scene's
+// world-space triangles (geometry 0, primitive id = clvis triangle id), traced with the primary
+// rays of CONVENTIONS.md (t = view depth) by single rays or 16-ray packets on a few threads.
+#pragma once
+
+#include "reference_result.hpp"
+
+#include <clvis/camera.hpp>
+#include <clvis/scene.hpp>
+
+#include <memory>
+#include <string>
+
+namespace clvis::bench {
+
+enum class EmbreeMode {
+    Single,   ///< rtcIntersect1, one ray at a time
+    Packet16, ///< rtcIntersect16, 4x4 pixel tiles with a valid mask
+};
+
+const char* to_string(EmbreeMode mode) noexcept;
+
+/// True when clvis_bench_refs was built with Embree (CLVIS_HAVE_EMBREE).
+bool embree_available() noexcept;
+
+class EmbreeReference {
+public:
+    /// Creates an Embree device with `threads` threads and builds the scene `builds` times (each
+    /// a fresh RTCScene; the last one is kept), timing rtcCommitScene only. Throws
+    /// std::runtime_error naming the failure, or when Embree was not built in.
+    EmbreeReference(const Scene& scene, int threads = 2, int builds = 1);
+    ~EmbreeReference();
+    EmbreeReference(const EmbreeReference&) = delete;
+    EmbreeReference& operator=(const EmbreeReference&) = delete;
+
+    /// Median and every sample of the timed builds (ms).
+    double build_ms() const;
+    const std::vector<double>& build_samples_ms() const;
+    /// "Embree 3.13.5 (threads=2)".
+    std::string description() const;
+
+    /// One untimed warm-up frame, then `repeats` timed frames (ray generation and tracing of
+    /// every pixel centre on `threads` std::threads). Throws std::runtime_error on failure.
+    ReferenceResult render(const Camera& camera, int width, int height, EmbreeMode mode, int repeats);
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+/// Builds and renders in one call; failures land in ReferenceResult::error, never thrown.
+ReferenceResult render_embree(const Scene& scene, const Camera& camera, int width, int height,
+                              EmbreeMode mode, int repeats, int threads = 2);
+
+} // namespace clvis::bench
