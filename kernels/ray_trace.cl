@@ -38,20 +38,23 @@ typedef struct packet {
 
 static float pick(float x, float y, float z, int k) { return k == 0 ? x : (k == 1 ? y : z); }
 
+/* Horizontal minimum and maximum (of values that are never NaN). */
 static float hmin(lanes_f v)
 {
-    float8 a = fmin(v.lo, v.hi);
-    float4 b = fmin(a.lo, a.hi);
-    float2 c = fmin(b.lo, b.hi);
-    return fmin(c.x, c.y);
+    float f[CLVIS_PACKET];
+    vstore16(v, 0, f);
+    float m = f[0];
+    for (int i = 1; i < CLVIS_PACKET; ++i) m = f[i] < m ? f[i] : m;
+    return m;
 }
 
 static float hmax(lanes_f v)
 {
-    float8 a = fmax(v.lo, v.hi);
-    float4 b = fmax(a.lo, a.hi);
-    float2 c = fmax(b.lo, b.hi);
-    return fmax(c.x, c.y);
+    float f[CLVIS_PACKET];
+    vstore16(v, 0, f);
+    float m = f[0];
+    for (int i = 1; i < CLVIS_PACKET; ++i) m = f[i] > m ? f[i] : m;
+    return m;
 }
 
 /* clvis_raise / clvis_lower on lanes: a NaN v leaves acc. */
@@ -87,28 +90,28 @@ static lanes_f permuted(float x, float y, float z, lanes_i k0, lanes_i k1)
 static void packet_test_triangle(const packet* p, __global const clvis_bvh_tri* tri, float near_t, float far_t,
                                  lanes_u* best_t, lanes_u* best_id)
 {
-    float v[9] = {tri->v0_x, tri->v0_y, tri->v0_z, tri->v1_x, tri->v1_y, tri->v1_z, tri->v2_x, tri->v2_y, tri->v2_z};
+    float vert[9] = {tri->v0_x, tri->v0_y, tri->v0_z, tri->v1_x, tri->v1_y, tri->v1_z, tri->v2_x, tri->v2_y, tri->v2_z};
     lanes_f akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz;
     if (p->uniform) {
-        akx = (lanes_f)(pick(v[0], v[1], v[2], p->ukx)) - p->px;
-        aky = (lanes_f)(pick(v[0], v[1], v[2], p->uky)) - p->py;
-        akz = (lanes_f)(pick(v[0], v[1], v[2], p->ukz)) - p->pz;
-        bkx = (lanes_f)(pick(v[3], v[4], v[5], p->ukx)) - p->px;
-        bky = (lanes_f)(pick(v[3], v[4], v[5], p->uky)) - p->py;
-        bkz = (lanes_f)(pick(v[3], v[4], v[5], p->ukz)) - p->pz;
-        ckx = (lanes_f)(pick(v[6], v[7], v[8], p->ukx)) - p->px;
-        cky = (lanes_f)(pick(v[6], v[7], v[8], p->uky)) - p->py;
-        ckz = (lanes_f)(pick(v[6], v[7], v[8], p->ukz)) - p->pz;
+        akx = (lanes_f)(pick(vert[0], vert[1], vert[2], p->ukx)) - p->px;
+        aky = (lanes_f)(pick(vert[0], vert[1], vert[2], p->uky)) - p->py;
+        akz = (lanes_f)(pick(vert[0], vert[1], vert[2], p->ukz)) - p->pz;
+        bkx = (lanes_f)(pick(vert[3], vert[4], vert[5], p->ukx)) - p->px;
+        bky = (lanes_f)(pick(vert[3], vert[4], vert[5], p->uky)) - p->py;
+        bkz = (lanes_f)(pick(vert[3], vert[4], vert[5], p->ukz)) - p->pz;
+        ckx = (lanes_f)(pick(vert[6], vert[7], vert[8], p->ukx)) - p->px;
+        cky = (lanes_f)(pick(vert[6], vert[7], vert[8], p->uky)) - p->py;
+        ckz = (lanes_f)(pick(vert[6], vert[7], vert[8], p->ukz)) - p->pz;
     } else {
-        akx = permuted(v[0], v[1], v[2], p->kx0, p->kx1) - p->px;
-        aky = permuted(v[0], v[1], v[2], p->ky0, p->ky1) - p->py;
-        akz = permuted(v[0], v[1], v[2], p->kz0, p->kz1) - p->pz;
-        bkx = permuted(v[3], v[4], v[5], p->kx0, p->kx1) - p->px;
-        bky = permuted(v[3], v[4], v[5], p->ky0, p->ky1) - p->py;
-        bkz = permuted(v[3], v[4], v[5], p->kz0, p->kz1) - p->pz;
-        ckx = permuted(v[6], v[7], v[8], p->kx0, p->kx1) - p->px;
-        cky = permuted(v[6], v[7], v[8], p->ky0, p->ky1) - p->py;
-        ckz = permuted(v[6], v[7], v[8], p->kz0, p->kz1) - p->pz;
+        akx = permuted(vert[0], vert[1], vert[2], p->kx0, p->kx1) - p->px;
+        aky = permuted(vert[0], vert[1], vert[2], p->ky0, p->ky1) - p->py;
+        akz = permuted(vert[0], vert[1], vert[2], p->kz0, p->kz1) - p->pz;
+        bkx = permuted(vert[3], vert[4], vert[5], p->kx0, p->kx1) - p->px;
+        bky = permuted(vert[3], vert[4], vert[5], p->ky0, p->ky1) - p->py;
+        bkz = permuted(vert[3], vert[4], vert[5], p->kz0, p->kz1) - p->pz;
+        ckx = permuted(vert[6], vert[7], vert[8], p->kx0, p->kx1) - p->px;
+        cky = permuted(vert[6], vert[7], vert[8], p->ky0, p->ky1) - p->py;
+        ckz = permuted(vert[6], vert[7], vert[8], p->kz0, p->kz1) - p->pz;
     }
     lanes_f ax = akx - p->sx * akz;
     lanes_f ay = aky - p->sy * akz;
@@ -117,13 +120,15 @@ static void packet_test_triangle(const packet* p, __global const clvis_bvh_tri* 
     lanes_f cx = ckx - p->sx * ckz;
     lanes_f cy = cky - p->sy * ckz;
     lanes_f u = cx * by - cy * bx;
-    lanes_f w_ = ax * cy - ay * cx;
+    lanes_f v = ax * cy - ay * cx;
     lanes_f w = bx * ay - by * ax;
-    lanes_i outside = ((u < 0.0f) | (w_ < 0.0f) | (w < 0.0f)) & ((u > 0.0f) | (w_ > 0.0f) | (w > 0.0f));
-    lanes_f det = u + w_ + w;
-    lanes_f tz = u * (p->sz * akz) + w_ * (p->sz * bkz) + w * (p->sz * ckz);
+    /* Not outside: the edge functions do not take both signs. (Masks come only from comparisons,
+       never from ~, so every lane is 0 or -1 on every implementation.) */
+    lanes_i inside = ((u >= 0.0f) & (v >= 0.0f) & (w >= 0.0f)) | ((u <= 0.0f) & (v <= 0.0f) & (w <= 0.0f));
+    lanes_f det = u + v + w;
+    lanes_f tz = u * (p->sz * akz) + v * (p->sz * bkz) + w * (p->sz * ckz);
     lanes_f t = tz / det;
-    lanes_i hit = ~outside & (det != 0.0f) & (t >= near_t) & (t <= far_t);
+    lanes_i hit = inside & (det != 0.0f) & (t >= near_t) & (t <= far_t);
     lanes_u bits = as_uint16(t), id = (lanes_u)(tri->id);
     lanes_i nearer = hit & ((bits < *best_t) | ((bits == *best_t) & (id < *best_id)));
     *best_t = select(*best_t, bits, nearer);
@@ -142,7 +147,7 @@ static lanes_f component(lanes_f x, lanes_f y, lanes_f z, lanes_i k)
 /* The packet's rays: clvis_primary_ray, clvis_make_shear and clvis_make_box_ray on 16 lanes, the
    same operations in the same order, so each lane holds the bits the scalar code gives its pixel.
    Lanes past the image's edge repeat the edge pixel's ray and are not written. */
-static packet make_packet(clvis_camera_gpu cam, int x0, int y0)
+static void make_packet(clvis_camera_gpu cam, int x0, int y0, packet* out)
 {
     lanes_f rx = convert_float16(min((lanes_i)(x0) + CLVIS_LANE_X, (lanes_i)(cam.width - 1))) + 0.5f;
     lanes_f ry = convert_float16(min((lanes_i)(y0) + CLVIS_LANE_Y, (lanes_i)(cam.height - 1))) + 0.5f;
@@ -192,15 +197,16 @@ static packet make_packet(clvis_camera_gpu cam, int x0, int y0)
     p.ox = ox; p.oy = oy; p.oz = oz;
     p.ix = 1.0f / dx; p.iy = 1.0f / dy; p.iz = 1.0f / dz;
     p.nx = p.ix < 0.0f; p.ny = p.iy < 0.0f; p.nz = p.iz < 0.0f;
-    return p;
+    *out = p;
 }
 
-__kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh_node* restrict nodes, uint node_count,
-                        __global const clvis_bvh_tri* restrict tris, __global ulong* restrict keys)
+__kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh_node* nodes, uint node_count,
+                        __global const clvis_bvh_tri* tris, __global ulong* keys)
 {
     int x0 = (int)get_global_id(0) * CLVIS_PACKET_W, y0 = (int)get_global_id(1) * CLVIS_PACKET_H;
     if (x0 >= cam.width || y0 >= cam.height) return; /* the launch is rounded up to whole tiles */
-    packet p = make_packet(cam, x0, y0);
+    packet p;
+    make_packet(cam, x0, y0, &p);
     lanes_u best_t = (lanes_u)(clvis_float_bits(CLVIS_INFINITY)), best_id = (lanes_u)(CLVIS_BACKGROUND_ID);
     lanes_f limit = (lanes_f)(cam.far_d);
 

@@ -75,12 +75,12 @@ static inline int clvis_intersect_triangle(clvis_ray_shear s, clvis_vec3 a, clvi
     float u = cx * by - cy * bx;
     float v = ax * cy - ay * cx;
     float w = bx * ay - by * ax;
-    int outside = (u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f);
+    int inside = (u >= 0.0f && v >= 0.0f && w >= 0.0f) || (u <= 0.0f && v <= 0.0f && w <= 0.0f);
     float det = u + v + w;
     float tz = u * (s.sz * akz) + v * (s.sz * bkz) + w * (s.sz * ckz);
     float tt = tz / det;
     *t = tt;
-    return !outside && det != 0.0f && tt >= near_t && tt <= far_t;
+    return inside && det != 0.0f && tt >= near_t && tt <= far_t;
 }
 
 /* A ray prepared for the slab test: 1 / direction per axis (+-inf where a component is +-0) and
