@@ -1,13 +1,12 @@
 // Binned SAH BVH build (Wald, "On fast construction of SAH-based bounding volume hierarchies",
-// 2007). The top of the tree is split on one thread with the binning spread over the workers; the
-// subtrees below a size fixed by the triangle count (not by the threads) are then built in
-// parallel, each into its own depth-first array, and spliced in order: the result does not depend
-// on which thread built what. Where the SAH cannot split (every centroid in one point) or the tree
+// 2007). Near the root the binning of a node is spread over the threads and its two children are
+// built on separate threads, each into its own depth-first array, then spliced in order; splits
+// depend only on the triangles (bins merge exactly), so the result does not depend on the threads. Where the SAH cannot split (every centroid in one point) or the tree
 // grows too deep, an object median split takes over, so degenerate scenes terminate quickly.
 #include "bvh_build.hpp"
 
 #include <algorithm>
-#include <atomic>
+#include <cfloat>
 #include <cmath>
 #include <limits>
 #include <thread>
@@ -18,9 +17,12 @@ namespace {
 
 constexpr float inf = std::numeric_limits<float>::infinity();
 
+/// An axis-aligned box of floats: trivial (arrays of them cost nothing to declare); Box::none()
+/// has lo = +inf, hi = -inf.
 struct Box {
-    float lo[3] = {inf, inf, inf};
-    float hi[3] = {-inf, -inf, -inf};
+    float lo[3], hi[3];
+
+    static Box none() { return {{inf, inf, inf}, {-inf, -inf, -inf}}; }
 
     void grow(const Box& b)
     {
@@ -46,25 +48,37 @@ struct Box {
     }
 };
 
-/// One triangle as the build sees it: its box and its centroid (the box's centre).
+/// One triangle as the build sees it: its box, its centroid (the box's centre) and its id. The
+/// build reorders these themselves (not indices to them), so every pass reads memory in order.
 struct Prim {
     Box box;
     float c[3];
+    std::uint32_t id;
 };
 
 /// A range of the id array with its bounds and its centroids' bounds.
 struct Range {
     std::uint32_t begin = 0, end = 0;
-    Box box, cbox;
+    Box box = Box::none(), cbox = Box::none();
     std::uint32_t count() const { return end - begin; }
 };
 
 constexpr int max_bins = 256;
 
+/// Per-axis bins; only the first `bins` of each axis are set up and used (a node's split must not
+/// pay for clearing all max_bins).
 struct Bins {
     Box box[3][max_bins];
-    std::uint32_t count[3][max_bins] = {};
+    std::uint32_t count[3][max_bins];
 
+    explicit Bins(int bins)
+    {
+        for (int a = 0; a < 3; ++a)
+            for (int k = 0; k < bins; ++k) {
+                box[a][k] = Box::none();
+                count[a][k] = 0;
+            }
+    }
     void merge(const Bins& o, int bins)
     {
         for (int a = 0; a < 3; ++a)
@@ -75,9 +89,11 @@ struct Bins {
     }
 };
 
-/// Maps a centroid coordinate to its bin, in double so that huge finite extents do not overflow.
+/// Maps a centroid coordinate to its bin. In float: the scale comes from the extent in double
+/// (finite even for huge coordinates, at most FLT_MAX for tiny ones), and an overflowing product
+/// (+inf) clamps to the last bin; no NaN can arise.
 struct BinMap {
-    double lo[3], scale[3];
+    float lo[3], scale[3];
     bool valid[3];
     int bins;
 
@@ -87,20 +103,19 @@ struct BinMap {
             double extent = double(cbox.hi[a]) - double(cbox.lo[a]);
             lo[a] = cbox.lo[a];
             valid[a] = extent > 0;
-            scale[a] = valid[a] ? bins * (1 - 1e-9) / extent : 0;
+            scale[a] = valid[a] ? float(std::min<double>(bins * (1 - 1e-6) / extent, FLT_MAX)) : 0.0f;
         }
     }
     int bin(int axis, float c) const
     {
-        long k = long((double(c) - lo[axis]) * scale[axis]);
-        return int(std::clamp<long>(k, 0, bins - 1));
+        float k = (c - lo[axis]) * scale[axis];
+        return int(std::min(std::max(k, 0.0f), float(bins - 1)));
     }
 };
 
 class Builder {
 public:
-    Builder(const std::vector<Prim>& prims, std::vector<std::uint32_t>& ids, const BvhBuildOptions& o)
-        : prims_(prims), ids_(ids), opt_(o)
+    Builder(std::vector<Prim>& prims, const BvhBuildOptions& o) : prims_(prims), opt_(o)
     {
     }
 
@@ -121,6 +136,40 @@ public:
         return std::max(d, build_serial(right, depth + 1, out));
     }
 
+    /// The same subtree as build_serial, with the two children of each node above `min_parallel`
+    /// triangles built on two threads (`threads` shared between them) into separate arrays and
+    /// spliced in depth-first order: the same bits as build_serial.
+    int build_parallel(const Range& r, int depth, unsigned threads, std::vector<clvis_bvh_node>& out) const
+    {
+        if (threads <= 1 || r.count() < min_parallel) return build_serial(r, depth, out);
+        std::size_t self = out.size();
+        out.push_back(make_node(r.box));
+        Range left, right;
+        if (!split(r, depth, left, right, threads)) {
+            out[self].first = r.begin;
+            out[self].count = r.count();
+            return depth;
+        }
+        unsigned threads_right = std::max(1u, unsigned(std::uint64_t(threads) * right.count() / r.count()));
+        threads_right = std::min(threads_right, threads - 1);
+        std::vector<clvis_bvh_node> right_nodes;
+        right_nodes.reserve(std::size_t(right.count()) * 2);
+        int depth_right = 0;
+        std::thread worker([&] { depth_right = build_parallel(right, depth + 1, threads_right, right_nodes); });
+        int depth_left = build_parallel(left, depth + 1, threads - threads_right, out);
+        worker.join();
+        std::uint32_t offset = std::uint32_t(out.size());
+        out[self].first = offset;
+        for (clvis_bvh_node node : right_nodes) {
+            if (node.count == 0) node.first += offset;
+            out.push_back(node);
+        }
+        return std::max(depth_left, depth_right);
+    }
+
+    /// Ranges smaller than this are built on one thread.
+    static constexpr std::uint32_t min_parallel = 8192;
+
     /// Splits `r` into two non-empty halves (returns false for a leaf); `workers` threads bin.
     bool split(const Range& r, int depth, Range& left, Range& right, unsigned workers) const
     {
@@ -139,23 +188,25 @@ public:
             split_median(r, left, right);
             return true;
         }
-        int bins = opt_.sah_bins;
+        // No more bins than triangles: near the leaves the sweep would cost more than the binning.
+        int bins = int(std::min<std::uint32_t>(std::uint32_t(opt_.sah_bins), std::max<std::uint32_t>(n, 4)));
         BinMap map(r.cbox, bins);
-        Bins binned = bin(r, map, workers);
+        Bins binned(bins);
+        bin(r, map, workers, binned);
         // Sweep each axis: cost of splitting after bin k = areas times counts of both sides.
         double best = std::numeric_limits<double>::infinity();
         int best_axis = -1, best_k = 0;
         for (int a = 0; a < 3; ++a) {
             if (!map.valid[a]) continue;
             double right_cost[max_bins];
-            Box acc;
+            Box acc = Box::none();
             std::uint32_t cnt = 0;
             for (int k = bins - 1; k > 0; --k) {
                 acc.grow(binned.box[a][k]);
                 cnt += binned.count[a][k];
                 right_cost[k] = acc.half_area() * cnt;
             }
-            acc = Box();
+            acc = Box::none();
             cnt = 0;
             for (int k = 0; k < bins - 1; ++k) {
                 acc.grow(binned.box[a][k]);
@@ -194,12 +245,13 @@ private:
         return n;
     }
 
-    Bins bin(const Range& r, const BinMap& map, unsigned workers) const
+    /// Bins the centroids of `r` into `out` (set up for map.bins bins).
+    void bin(const Range& r, const BinMap& map, unsigned workers, Bins& out) const
     {
         int bins = map.bins;
         auto bin_part = [&](std::uint32_t b, std::uint32_t e, Bins& out) {
             for (std::uint32_t i = b; i < e; ++i) {
-                const Prim& p = prims_[ids_[i]];
+                const Prim& p = prims_[i];
                 for (int a = 0; a < 3; ++a) {
                     if (!map.valid[a]) continue;
                     int k = map.bin(a, p.c[a]);
@@ -211,13 +263,12 @@ private:
         std::uint32_t n = r.count();
         unsigned parts = std::min<unsigned>(workers, std::max<std::uint32_t>(1, n / 65536));
         if (parts <= 1) {
-            Bins out;
             bin_part(r.begin, r.end, out);
-            return out;
+            return;
         }
         // Bins merge by min, max and sums: exact and order-free, so the split does not depend
         // on the number of parts.
-        std::vector<Bins> partial(parts);
+        std::vector<Bins> partial(parts, Bins(bins));
         std::vector<std::thread> pool;
         for (unsigned t = 0; t < parts; ++t) {
             std::uint32_t b = r.begin + std::uint32_t(std::uint64_t(n) * t / parts);
@@ -225,18 +276,17 @@ private:
             pool.emplace_back(bin_part, b, e, std::ref(partial[t]));
         }
         for (auto& th : pool) th.join();
-        for (unsigned t = 1; t < parts; ++t) partial[0].merge(partial[t], bins);
-        return partial[0];
+        for (unsigned t = 0; t < parts; ++t) out.merge(partial[t], bins);
     }
 
     void bounds(std::uint32_t b, std::uint32_t e, Range& out) const
     {
         out.begin = b;
         out.end = e;
-        out.box = Box();
-        out.cbox = Box();
+        out.box = Box::none();
+        out.cbox = Box::none();
         for (std::uint32_t i = b; i < e; ++i) {
-            const Prim& p = prims_[ids_[i]];
+            const Prim& p = prims_[i];
             out.box.grow(p.box);
             out.cbox.grow(p.c);
         }
@@ -248,7 +298,7 @@ private:
         left = Range();
         right = Range();
         while (i < j) {
-            const Prim& p = prims_[ids_[i]];
+            const Prim& p = prims_[i];
             if (map.bin(axis, p.c[axis]) <= k) {
                 left.box.grow(p.box);
                 left.cbox.grow(p.c);
@@ -256,7 +306,7 @@ private:
             } else {
                 right.box.grow(p.box);
                 right.cbox.grow(p.c);
-                std::swap(ids_[i], ids_[--j]);
+                std::swap(prims_[i], prims_[--j]);
             }
         }
         left.begin = r.begin;
@@ -285,74 +335,17 @@ private:
         }
         std::uint32_t mid = r.begin + r.count() / 2;
         // Ties broken by id: the order, and so the tree, is fully determined.
-        std::nth_element(ids_.begin() + r.begin, ids_.begin() + mid, ids_.begin() + r.end,
-                         [&](std::uint32_t x, std::uint32_t y) {
-                             float cx = prims_[x].c[axis], cy = prims_[y].c[axis];
-                             return cx < cy || (cx == cy && x < y);
+        std::nth_element(prims_.begin() + r.begin, prims_.begin() + mid, prims_.begin() + r.end,
+                         [&](const Prim& x, const Prim& y) {
+                             return x.c[axis] < y.c[axis] || (x.c[axis] == y.c[axis] && x.id < y.id);
                          });
         bounds(r.begin, mid, left);
         bounds(mid, r.end, right);
     }
 
-    const std::vector<Prim>& prims_;
-    std::vector<std::uint32_t>& ids_;
+    std::vector<Prim>& prims_;
     BvhBuildOptions opt_;
 };
-
-/// The top of the tree, split serially; its leaves are the subtrees built in parallel.
-struct TopNode {
-    Box box;
-    int left = -1, right = -1; ///< top nodes, or -1 for a task
-    int task = -1;
-};
-
-struct Task {
-    Range range;
-    int depth = 0;
-    std::vector<clvis_bvh_node> nodes;
-    int max_depth = 0;
-};
-
-int expand_top(const Builder& builder, const Range& r, int depth, std::uint32_t cutoff, unsigned workers,
-               std::vector<TopNode>& top, std::vector<Task>& tasks)
-{
-    int self = int(top.size());
-    top.push_back({r.box});
-    Range left, right;
-    if (r.count() <= cutoff || !builder.split(r, depth, left, right, workers)) {
-        top[self].task = int(tasks.size());
-        tasks.push_back({r, depth, {}, 0});
-        return self;
-    }
-    int l = expand_top(builder, left, depth + 1, cutoff, workers, top, tasks);
-    int rr = expand_top(builder, right, depth + 1, cutoff, workers, top, tasks);
-    top[self].left = l;
-    top[self].right = rr;
-    return self;
-}
-
-void splice(const std::vector<TopNode>& top, int t, std::vector<Task>& tasks, std::vector<clvis_bvh_node>& out)
-{
-    const TopNode& n = top[t];
-    if (n.task >= 0) {
-        auto& sub = tasks[n.task].nodes;
-        std::uint32_t offset = std::uint32_t(out.size());
-        for (clvis_bvh_node node : sub) {
-            if (node.count == 0) node.first += offset;
-            out.push_back(node);
-        }
-        sub = {};
-        return;
-    }
-    std::size_t self = out.size();
-    clvis_bvh_node node{};
-    node.lo_x = n.box.lo[0]; node.lo_y = n.box.lo[1]; node.lo_z = n.box.lo[2];
-    node.hi_x = n.box.hi[0]; node.hi_y = n.box.hi[1]; node.hi_z = n.box.hi[2];
-    out.push_back(node);
-    splice(top, n.left, tasks, out);
-    out[self].first = std::uint32_t(out.size());
-    splice(top, n.right, tasks, out);
-}
 
 clvis_bvh_tri make_tri(const float* positions, const std::uint32_t* indices, std::uint32_t id)
 {
@@ -393,13 +386,13 @@ Bvh build_bvh(const float* positions, const std::uint32_t* indices, std::size_t 
     unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
 
     std::vector<Prim> prims(triangle_count);
-    std::vector<std::uint32_t> ids(triangle_count);
     parallel_for(triangle_count, threads, [&](std::size_t i) {
         Prim& p = prims[i];
+        p.box = Box::none();
         for (int v = 0; v < 3; ++v) p.box.grow(positions + std::size_t(indices[i * 3 + v]) * 3);
         // Halves first: the sum of two huge finite coordinates would overflow.
         for (int a = 0; a < 3; ++a) p.c[a] = p.box.lo[a] * 0.5f + p.box.hi[a] * 0.5f;
-        ids[i] = std::uint32_t(i);
+        p.id = std::uint32_t(i);
     });
     Range root;
     root.begin = 0;
@@ -409,43 +402,12 @@ Bvh build_bvh(const float* positions, const std::uint32_t* indices, std::size_t 
         root.cbox.grow(p.c);
     }
 
-    Builder builder(prims, ids, options);
-    // Subtrees of at most 1/64 of the triangles (at least 4096) become tasks: a fixed cut, so
-    // the tree is the same for any number of threads.
-    std::uint32_t cutoff = std::max<std::uint32_t>(4096, std::uint32_t(triangle_count / 64));
-    std::vector<TopNode> top;
-    std::vector<Task> tasks;
-    expand_top(builder, root, 1, cutoff, threads, top, tasks);
-
-    // Largest tasks first, handed out by an atomic counter: which thread builds which subtree
-    // varies, the subtrees do not.
-    std::vector<std::size_t> order(tasks.size());
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(),
-                     [&](std::size_t a, std::size_t b) { return tasks[a].range.count() > tasks[b].range.count(); });
-    std::atomic<std::size_t> next{0};
-    auto worker = [&] {
-        for (std::size_t i; (i = next.fetch_add(1)) < order.size();) {
-            Task& t = tasks[order[i]];
-            t.nodes.reserve(std::size_t(t.range.count()) * 2 / std::max(1, options.max_leaf_size / 2) + 1);
-            t.max_depth = builder.build_serial(t.range, t.depth, t.nodes);
-        }
-    };
-    std::vector<std::thread> pool;
-    for (unsigned t = 1; t < std::min<std::size_t>(threads, tasks.size()); ++t) pool.emplace_back(worker);
-    worker();
-    for (auto& th : pool) th.join();
-
-    std::size_t total = top.size();
-    for (const Task& t : tasks) {
-        total += t.nodes.size();
-        out.depth = std::max(out.depth, t.max_depth);
-    }
-    out.nodes.reserve(total);
-    splice(top, 0, tasks, out.nodes);
+    Builder builder(prims, options);
+    out.nodes.reserve(triangle_count * 2 / std::size_t(std::max(1, options.max_leaf_size / 2)) + 1);
+    out.depth = builder.build_parallel(root, 1, threads, out.nodes);
 
     out.tris.resize(triangle_count);
-    parallel_for(triangle_count, threads, [&](std::size_t i) { out.tris[i] = make_tri(positions, indices, ids[i]); });
+    parallel_for(triangle_count, threads, [&](std::size_t i) { out.tris[i] = make_tri(positions, indices, prims[i].id); });
     for (const clvis_bvh_node& n : out.nodes) out.leaves += n.count > 0;
     out.sah_cost = bvh_sah_cost(out.nodes);
     return out;
@@ -457,7 +419,7 @@ void refit_bvh(Bvh& bvh, const float* positions, const std::uint32_t* indices)
     // Depth-first order puts children after their parent: one backward pass sees children first.
     for (std::size_t i = bvh.nodes.size(); i-- > 0;) {
         clvis_bvh_node& n = bvh.nodes[i];
-        Box b;
+        Box b = Box::none();
         if (n.count > 0) {
             for (std::uint32_t k = n.first; k < n.first + n.count; ++k) {
                 const clvis_bvh_tri& t = bvh.tris[k];

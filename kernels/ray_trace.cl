@@ -32,30 +32,14 @@ typedef struct packet {
     lanes_f px, py, pz;          /* origin permuted to the shear's axes (kx, ky, kz) */
     lanes_f sx, sy, sz;          /* shear (clvis_ray_shear) */
     lanes_i kx0, kx1, ky0, ky1, kz0, kz1; /* kx == 0, kx == 1, ...: per-lane permutation */
+    float cx, cy, cz;            /* direction of a central ray: orders children near to far */
     int uniform;                 /* every lane has the same permutation, (ukx, uky, ukz) */
+    int common_origin;           /* and the same origin (perspective), (uox, uoy, uoz) permuted */
+    float uox, uoy, uoz;
     int ukx, uky, ukz;
 } packet;
 
 static float pick(float x, float y, float z, int k) { return k == 0 ? x : (k == 1 ? y : z); }
-
-/* Horizontal minimum and maximum (of values that are never NaN). */
-static float hmin(lanes_f v)
-{
-    float f[CLVIS_PACKET];
-    vstore16(v, 0, f);
-    float m = f[0];
-    for (int i = 1; i < CLVIS_PACKET; ++i) m = f[i] < m ? f[i] : m;
-    return m;
-}
-
-static float hmax(lanes_f v)
-{
-    float f[CLVIS_PACKET];
-    vstore16(v, 0, f);
-    float m = f[0];
-    for (int i = 1; i < CLVIS_PACKET; ++i) m = f[i] > m ? f[i] : m;
-    return m;
-}
 
 /* clvis_raise / clvis_lower on lanes: a NaN v leaves acc. */
 static lanes_f raise(lanes_f acc, lanes_f v) { return select(acc, v, v > acc); }
@@ -92,7 +76,18 @@ static void packet_test_triangle(const packet* p, __global const clvis_bvh_tri* 
 {
     float vert[9] = {tri->v0_x, tri->v0_y, tri->v0_z, tri->v1_x, tri->v1_y, tri->v1_z, tri->v2_x, tri->v2_y, tri->v2_z};
     lanes_f akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz;
-    if (p->uniform) {
+    if (p->common_origin) {
+        /* vertex minus origin once for all lanes: the same subtraction, done in scalar */
+        akx = (lanes_f)(pick(vert[0], vert[1], vert[2], p->ukx) - p->uox);
+        aky = (lanes_f)(pick(vert[0], vert[1], vert[2], p->uky) - p->uoy);
+        akz = (lanes_f)(pick(vert[0], vert[1], vert[2], p->ukz) - p->uoz);
+        bkx = (lanes_f)(pick(vert[3], vert[4], vert[5], p->ukx) - p->uox);
+        bky = (lanes_f)(pick(vert[3], vert[4], vert[5], p->uky) - p->uoy);
+        bkz = (lanes_f)(pick(vert[3], vert[4], vert[5], p->ukz) - p->uoz);
+        ckx = (lanes_f)(pick(vert[6], vert[7], vert[8], p->ukx) - p->uox);
+        cky = (lanes_f)(pick(vert[6], vert[7], vert[8], p->uky) - p->uoy);
+        ckz = (lanes_f)(pick(vert[6], vert[7], vert[8], p->ukz) - p->uoz);
+    } else if (p->uniform) {
         akx = (lanes_f)(pick(vert[0], vert[1], vert[2], p->ukx)) - p->px;
         aky = (lanes_f)(pick(vert[0], vert[1], vert[2], p->uky)) - p->py;
         akz = (lanes_f)(pick(vert[0], vert[1], vert[2], p->ukz)) - p->pz;
@@ -193,8 +188,13 @@ static void make_packet(clvis_camera_gpu cam, int x0, int y0, packet* out)
     p.kz0 = kz == 0; p.kz1 = kz == 1;
     p.ukx = kx.s0; p.uky = ky.s0; p.ukz = kz.s0;
     p.uniform = !any((kx != p.ukx) | (ky != p.uky));
+    p.common_origin = p.uniform && !cam.ortho;
+    p.uox = pick(cam.eye_x, cam.eye_y, cam.eye_z, p.ukx);
+    p.uoy = pick(cam.eye_x, cam.eye_y, cam.eye_z, p.uky);
+    p.uoz = pick(cam.eye_x, cam.eye_y, cam.eye_z, p.ukz);
     /* clvis_make_box_ray */
     p.ox = ox; p.oy = oy; p.oz = oz;
+    p.cx = dx.s5; p.cy = dy.s5; p.cz = dz.s5;
     p.ix = 1.0f / dx; p.iy = 1.0f / dy; p.iz = 1.0f / dz;
     p.nx = p.ix < 0.0f; p.ny = p.iy < 0.0f; p.nz = p.iz < 0.0f;
     *out = p;
@@ -208,56 +208,41 @@ __kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh_node* nod
     packet p;
     make_packet(cam, x0, y0, &p);
     lanes_u best_t = (lanes_u)(clvis_float_bits(CLVIS_INFINITY)), best_id = (lanes_u)(CLVIS_BACKGROUND_ID);
-    lanes_f limit = (lanes_f)(cam.far_d);
+    lanes_f limit = (lanes_f)(cam.far_d); /* each ray's far distance: far, or its nearest hit */
 
-    uint stack_node[CLVIS_RAY_STACK];
-    float stack_t[CLVIS_RAY_STACK];
+    uint stack[CLVIS_RAY_STACK];
     uint sp = 0;
-    lanes_f entry_a, entry_b;
-    uint node = node_count > 0 && any(packet_hits_box(&p, nodes, cam.near_d, limit, &entry_a)) ? 0u : CLVIS_RAY_NONE;
+    lanes_f entry;
+    uint node = node_count > 0 && any(packet_hits_box(&p, nodes, cam.near_d, limit, &entry)) ? 0u : CLVIS_RAY_NONE;
     while (node != CLVIS_RAY_NONE) {
         __global const clvis_bvh_node* nd = nodes + node;
         if (nd->count > 0) {
             for (uint k = nd->first; k < nd->first + nd->count; ++k)
                 packet_test_triangle(&p, tris + k, cam.near_d, cam.far_d, &best_t, &best_id);
             limit = fmin((lanes_f)(cam.far_d), as_float16(best_t));
-            /* Pop the next node that some ray may still reach before its nearest hit. */
-            float cull = hmax(limit) * CLVIS_IZE_SCALE;
             node = CLVIS_RAY_NONE;
-            while (sp > 0) {
-                --sp;
-                if (stack_t[sp] <= cull) {
-                    node = stack_node[sp];
-                    break;
-                }
-            }
-            continue;
-        }
-        uint a = node + 1, b = nd->first;
-        lanes_i ha = packet_hits_box(&p, nodes + a, cam.near_d, limit, &entry_a);
-        lanes_i hb = packet_hits_box(&p, nodes + b, cam.near_d, limit, &entry_b);
-        int any_a = any(ha), any_b = any(hb);
-        if (any_a && any_b) {
-            /* Nearest child first: the one some ray enters first. */
-            float ta = hmin(select((lanes_f)(CLVIS_INFINITY), entry_a, ha));
-            float tb = hmin(select((lanes_f)(CLVIS_INFINITY), entry_b, hb));
-            int b_first = tb < ta;
-            node = b_first ? b : a;
-            stack_node[sp] = b_first ? a : b;
-            stack_t[sp] = b_first ? ta : tb;
-            ++sp;
-        } else if (any_a || any_b) {
-            node = any_a ? a : b;
         } else {
-            float cull = hmax(limit) * CLVIS_IZE_SCALE;
-            node = CLVIS_RAY_NONE;
-            while (sp > 0) {
-                --sp;
-                if (stack_t[sp] <= cull) {
-                    node = stack_node[sp];
-                    break;
-                }
+            uint a = node + 1, b = nd->first;
+            int hit_a = any(packet_hits_box(&p, nodes + a, cam.near_d, limit, &entry));
+            int hit_b = any(packet_hits_box(&p, nodes + b, cam.near_d, limit, &entry));
+            if (hit_a && hit_b) {
+                /* Nearest child first, by the box centres along a central ray. */
+                __global const clvis_bvh_node* na = nodes + a;
+                __global const clvis_bvh_node* nb = nodes + b;
+                float along = (nb->lo_x + nb->hi_x - na->lo_x - na->hi_x) * p.cx +
+                              (nb->lo_y + nb->hi_y - na->lo_y - na->hi_y) * p.cy +
+                              (nb->lo_z + nb->hi_z - na->lo_z - na->hi_z) * p.cz;
+                node = along < 0.0f ? b : a;
+                stack[sp++] = along < 0.0f ? a : b;
+            } else {
+                node = hit_a ? a : (hit_b ? b : CLVIS_RAY_NONE);
             }
+        }
+        /* Pop the next node that some ray may still reach before its nearest hit (tested again:
+           hits found since it was pushed may cull it). */
+        while (node == CLVIS_RAY_NONE && sp > 0) {
+            uint n = stack[--sp];
+            if (any(packet_hits_box(&p, nodes + n, cam.near_d, limit, &entry))) node = n;
         }
     }
 
