@@ -1,18 +1,236 @@
-// Interim: the raster path is being written; until it lands, using it throws.
+// The raster path: raster_setup.cl projects and clips every triangle, rasterizes the small ones
+// at once and lists the others; raster_bin.cl bins those into tiles (count, scan, fill);
+// raster_fine.cl rasterizes each tile's bin. The host plans every capacity from counts read back
+// during the frame and grows buffers (re-running the stage that overflowed) rather than drop.
 #include "pipeline.hpp"
+
+#include "cl_runtime.hpp"
+
+#include "shared/raster.h"
 
 #include <clvis/error.hpp>
 
+#include <algorithm>
+#include <string>
+
 namespace clvis::detail {
 
-struct RasterPipeline::Impl {};
-RasterPipeline::RasterPipeline(Device::Impl&, const RenderOptions&)
+static_assert(sizeof(clvis_raster_tri) == 112, "layout shared with kernels/shared/raster.h");
+static_assert(sizeof(clvis_camera_gpu) == 80, "layout shared with kernels/shared/camera.h");
+
+namespace {
+
+/// Tile edge in pixels when RenderOptions::tile_size is 0 (log2), measured on PoCL (2 cores).
+constexpr int default_tile_log2 = 4;
+/// Work-items per group of the one-dimensional kernels (setup, bin count and fill), at most.
+constexpr std::size_t linear_group = 64;
+/// Work-items of the single work-group of raster_bin_scan, at most.
+constexpr std::size_t scan_group = 256;
+/// First capacities of the growable buffers (elements); they double or jump to what a frame needs.
+constexpr std::size_t first_tri_capacity = std::size_t(1) << 12;
+constexpr std::size_t first_entry_capacity = std::size_t(1) << 14;
+
+std::size_t floor_pow2(std::size_t v)
 {
-    throw Error(Error::Kind::InvalidArgument, "the raster path is not available in this build yet");
+    std::size_t p = 1;
+    while (p * 2 <= v) p *= 2;
+    return p;
 }
+
+int cull_mode(Cull cull)
+{
+    switch (cull) {
+    case Cull::Back: return CLVIS_CULL_BACK;
+    case Cull::Front: return CLVIS_CULL_FRONT;
+    case Cull::None: break;
+    }
+    return CLVIS_CULL_NONE;
+}
+
+} // namespace
+
+struct RasterPipeline::Impl {
+    Device::Impl& device;
+    int tile_log2 = default_tile_log2;
+    int cull = CLVIS_CULL_NONE;
+    cl::Kernel clear, setup, bin_count, bin_scan, bin_fill, fine;
+    std::size_t setup_group = 1, bin_group = 1, scan_items = 1;
+    cl::NDRange fine_group;
+    cl::Buffer counters; ///< ulong[2]: triangles listed by setup, bin entries
+    cl::Buffer tris, entries, tile_counts, offsets, cursors;
+    std::size_t tri_capacity = 0, entry_capacity = 0, tile_capacity = 0;
+
+    Impl(Device::Impl& d, const RenderOptions& o) : device(d), cull(cull_mode(o.cull))
+    {
+        if (o.tile_size != 0) {
+            tile_log2 = 0;
+            while ((1 << tile_log2) < o.tile_size) ++tile_log2;
+        }
+    }
+
+    std::size_t granted(const cl::Kernel& k) const
+    {
+        return k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device.device);
+    }
+
+    void pick_groups()
+    {
+        setup_group = std::min(linear_group, floor_pow2(granted(setup)));
+        bin_group = std::min({linear_group, floor_pow2(granted(bin_count)), floor_pow2(granted(bin_fill))});
+        scan_items = std::min(scan_group, floor_pow2(granted(bin_scan)));
+        // A group covers a band of one tile: its width and height divide the tile's edge.
+        auto item_sizes = device.device.getInfo<CL_DEVICE_MAX_WORK_ITEM_SIZES>();
+        std::size_t tile = std::size_t(1) << tile_log2, max_group = floor_pow2(granted(fine));
+        std::size_t gx = std::min({tile, max_group, floor_pow2(item_sizes.at(0))});
+        std::size_t gy = std::min({tile, max_group / gx, floor_pow2(item_sizes.at(1))});
+        fine_group = cl::NDRange(gx, gy);
+    }
+
+    /// Makes `buffer` hold at least `needed` elements of `size` bytes, growing geometrically.
+    void reserve(cl::Buffer& buffer, std::size_t& capacity, std::size_t needed, std::size_t size,
+                 std::size_t first, const char* what)
+    {
+        if (needed <= capacity && buffer()) return;
+        std::size_t grown = std::max({needed, capacity * 2, first});
+        device.check_allocation(std::uint64_t(grown) * size, std::string("the raster path's ") + what);
+        buffer = cl::Buffer(device.context, CL_MEM_READ_WRITE, grown * size);
+        capacity = grown;
+    }
+
+    cl_ulong read_counter(Frame& frame, int index)
+    {
+        cl_ulong value = 0;
+        frame.queue.enqueueReadBuffer(counters, CL_TRUE, sizeof(cl_ulong) * index, sizeof value, &value);
+        return value;
+    }
+
+    /// Runs setup and returns how many triangles it listed for binning (all of them stored).
+    std::size_t run_setup(const DeviceScene& scene, Frame& frame)
+    {
+        for (;;) {
+            cl::Event zeroed, done;
+            frame.queue.enqueueFillBuffer(counters, cl_ulong(0), 0, 2 * sizeof(cl_ulong), nullptr, &zeroed);
+            frame.stages->add("setup", zeroed);
+            setup.setArg(0, sizeof frame.gpu_camera, &frame.gpu_camera);
+            setup.setArg(1, scene.positions);
+            setup.setArg(2, scene.indices);
+            setup.setArg(3, cl_uint(scene.triangle_count));
+            setup.setArg(4, cl_int(cull));
+            setup.setArg(5, frame.keys);
+            setup.setArg(6, tris);
+            setup.setArg(7, cl_uint(std::min<std::size_t>(tri_capacity, 0xFFFFFFFFu)));
+            setup.setArg(8, counters);
+            frame.queue.enqueueNDRangeKernel(setup, cl::NullRange,
+                                             cl::NDRange(round_up(scene.triangle_count, setup_group)),
+                                             cl::NDRange(setup_group), nullptr, &done);
+            frame.stages->add("setup", done);
+            cl_ulong listed = read_counter(frame, 0);
+            if (listed <= tri_capacity) return std::size_t(listed);
+            // Small triangles already written are harmless to write again (atomic min).
+            reserve(tris, tri_capacity, std::size_t(listed), sizeof(clvis_raster_tri), first_tri_capacity,
+                    "list of triangles to bin");
+        }
+    }
+
+    void render(const DeviceScene& scene, Frame& frame)
+    {
+        if (frame.width > CLVIS_MAX_IMAGE_SIZE || frame.height > CLVIS_MAX_IMAGE_SIZE)
+            throw Error(Error::Kind::Limit, "the raster path draws images of at most " +
+                                                std::to_string(CLVIS_MAX_IMAGE_SIZE) + " pixels a side (" +
+                                                std::to_string(frame.width) + "x" + std::to_string(frame.height) +
+                                                " asked): its fixed-point edge functions hold no more");
+        clear_keys(clear, frame);
+        if (scene.triangle_count == 0) return;
+        std::size_t listed = run_setup(scene, frame);
+        if (listed == 0) return;
+
+        int tile = 1 << tile_log2;
+        int tiles_x = (frame.width + tile - 1) / tile, tiles_y = (frame.height + tile - 1) / tile;
+        std::size_t tile_count = std::size_t(tiles_x) * std::size_t(tiles_y);
+        if (tile_count + 1 > tile_capacity) {
+            std::size_t n = tile_count + 1;
+            device.check_allocation(std::uint64_t(n) * sizeof(cl_uint), "the raster path's tile bins");
+            tile_counts = cl::Buffer(device.context, CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+            offsets = cl::Buffer(device.context, CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+            cursors = cl::Buffer(device.context, CL_MEM_READ_WRITE, n * sizeof(cl_uint));
+            tile_capacity = n;
+        }
+        cl::Event zeroed, counted, scanned, filled, drawn;
+        frame.queue.enqueueFillBuffer(tile_counts, cl_uint(0), 0, tile_count * sizeof(cl_uint), nullptr, &zeroed);
+        frame.stages->add("bin", zeroed);
+        cl::NDRange bin_global(round_up(listed, bin_group)), bin_local(bin_group);
+        bin_count.setArg(0, tris);
+        bin_count.setArg(1, cl_uint(listed));
+        bin_count.setArg(2, cl_int(tile_log2));
+        bin_count.setArg(3, cl_int(tiles_x));
+        bin_count.setArg(4, tile_counts);
+        frame.queue.enqueueNDRangeKernel(bin_count, cl::NullRange, bin_global, bin_local, nullptr, &counted);
+        frame.stages->add("bin", counted);
+        bin_scan.setArg(0, tile_counts);
+        bin_scan.setArg(1, cl_uint(tile_count));
+        bin_scan.setArg(2, offsets);
+        bin_scan.setArg(3, cursors);
+        bin_scan.setArg(4, counters);
+        bin_scan.setArg(5, cl::Local(scan_items * sizeof(cl_ulong)));
+        frame.queue.enqueueNDRangeKernel(bin_scan, cl::NullRange, cl::NDRange(scan_items), cl::NDRange(scan_items),
+                                         nullptr, &scanned);
+        frame.stages->add("bin", scanned);
+        cl_ulong total = read_counter(frame, 1);
+        if (total > 0xFFFFFFFFull)
+            throw Error(Error::Kind::Limit, "the raster path's bins would hold " + std::to_string(total) +
+                                                " entries, more than 32-bit offsets address");
+        reserve(entries, entry_capacity, std::size_t(total), sizeof(cl_uint), first_entry_capacity, "bins");
+        bin_fill.setArg(0, tris);
+        bin_fill.setArg(1, cl_uint(listed));
+        bin_fill.setArg(2, cl_int(tile_log2));
+        bin_fill.setArg(3, cl_int(tiles_x));
+        bin_fill.setArg(4, cursors);
+        bin_fill.setArg(5, entries);
+        bin_fill.setArg(6, cl_uint(std::min<std::size_t>(entry_capacity, 0xFFFFFFFFu)));
+        frame.queue.enqueueNDRangeKernel(bin_fill, cl::NullRange, bin_global, bin_local, nullptr, &filled);
+        frame.stages->add("bin", filled);
+
+        fine.setArg(0, tris);
+        fine.setArg(1, entries);
+        fine.setArg(2, offsets);
+        fine.setArg(3, cl_int(tile_log2));
+        fine.setArg(4, cl_int(tiles_x));
+        fine.setArg(5, sizeof frame.gpu_camera, &frame.gpu_camera);
+        fine.setArg(6, frame.keys);
+        cl::NDRange fine_global(std::size_t(tiles_x) << tile_log2, std::size_t(tiles_y) << tile_log2);
+        frame.queue.enqueueNDRangeKernel(fine, cl::NullRange, fine_global, fine_group, nullptr, &drawn);
+        frame.stages->add("raster", drawn);
+    }
+};
+
+RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& options)
+    : impl_(std::make_unique<Impl>(device, options))
+{
+    if (!device.info.int64_atomics)
+        throw Error(Error::Kind::Device,
+                    "the raster path needs 64-bit atomics (cl_khr_int64_base_atomics and "
+                    "cl_khr_int64_extended_atomics) for its depth test, which " +
+                        device.info.name + " does not offer; use the ray path on this device");
+    Impl& m = *impl_;
+    try {
+        m.clear = make_clear_kernel(device);
+        m.setup = cl::Kernel(device.program("raster_setup"), "raster_setup");
+        cl::Program bin = device.program("raster_bin");
+        m.bin_count = cl::Kernel(bin, "raster_bin_count");
+        m.bin_scan = cl::Kernel(bin, "raster_bin_scan");
+        m.bin_fill = cl::Kernel(bin, "raster_bin_fill");
+        m.fine = cl::Kernel(device.program("raster_fine"), "raster_fine");
+        m.pick_groups();
+        m.counters = cl::Buffer(device.context, CL_MEM_READ_WRITE, 2 * sizeof(cl_ulong));
+        m.reserve(m.tris, m.tri_capacity, first_tri_capacity, sizeof(clvis_raster_tri), first_tri_capacity,
+                  "list of triangles to bin");
+    } catch (const cl::Error& e) {
+        throw_cl_error(e, "preparing the raster path on " + device.info.name);
+    }
+}
+
 RasterPipeline::~RasterPipeline() = default;
 
+void RasterPipeline::render(const DeviceScene& scene, Frame& frame) { impl_->render(scene, frame); }
+
 } // namespace clvis::detail
-namespace clvis::detail {
-void RasterPipeline::render(const DeviceScene&, Frame&) {}
-}

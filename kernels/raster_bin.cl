@@ -1,0 +1,73 @@
+/* Raster path, stage 2 of 3: bins the triangles that raster_setup.cl listed into screen tiles.
+   raster_bin_count counts the triangles touching each tile, raster_bin_scan turns the counts
+   into bin offsets (the host sizes the bins from its total), raster_bin_fill writes each bin;
+   raster_fine.cl walks the bins. */
+#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+#include "shared/raster.h"
+
+/* Calls BODY(tile) for every tile of `tile_log2` whose pixel centres triangle t may cover. */
+#define CLVIS_FOR_EACH_TILE(t, tile_log2, tiles_x, BODY)                                          \
+    for (int ty = (t).y0 >> (tile_log2); ty <= (t).y1 >> (tile_log2); ++ty) {                      \
+        int j0 = max(ty << (tile_log2), (t).y0), j1 = min(((ty + 1) << (tile_log2)) - 1, (t).y1); \
+        for (int tx = (t).x0 >> (tile_log2); tx <= (t).x1 >> (tile_log2); ++tx) {                  \
+            int i0 = max(tx << (tile_log2), (t).x0);                                               \
+            int i1 = min(((tx + 1) << (tile_log2)) - 1, (t).x1);                                   \
+            if (clvis_raster_overlaps(&(t), i0, j0, i1, j1)) {                                     \
+                uint tile = (uint)ty * (uint)(tiles_x) + (uint)tx;                                 \
+                BODY;                                                                              \
+            }                                                                                      \
+        }                                                                                          \
+    }
+
+__kernel void raster_bin_count(__global const clvis_raster_tri* tris, uint count, int tile_log2, int tiles_x,
+                               volatile __global uint* tile_counts)
+{
+    uint k = (uint)get_global_id(0);
+    if (k >= count) return;
+    clvis_raster_tri t = tris[k];
+    CLVIS_FOR_EACH_TILE(t, tile_log2, tiles_x, atomic_inc(&tile_counts[tile]))
+}
+
+/* One work-group: each work-item sums a contiguous run of tiles, work-item 0 scans the sums, then
+   each writes its run's offsets. offsets[tile_count] and counters[1] receive the total (64-bit:
+   the host refuses totals that 32-bit offsets cannot hold). */
+__kernel void raster_bin_scan(__global const uint* tile_counts, uint tile_count, __global uint* offsets,
+                              __global uint* cursors, __global ulong* counters, __local ulong* partial)
+{
+    uint lid = (uint)get_local_id(0), size = (uint)get_local_size(0);
+    uint run = (tile_count + size - 1) / size;
+    uint begin = min(lid * run, tile_count), end = min(begin + run, tile_count);
+    ulong sum = 0;
+    for (uint i = begin; i < end; ++i) sum += tile_counts[i];
+    partial[lid] = sum;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (lid == 0) {
+        ulong total = 0;
+        for (uint i = 0; i < size; ++i) {
+            ulong s = partial[i];
+            partial[i] = total;
+            total += s;
+        }
+        counters[1] = total;
+        offsets[tile_count] = (uint)total;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    ulong offset = partial[lid];
+    for (uint i = begin; i < end; ++i) {
+        offsets[i] = (uint)offset;
+        cursors[i] = (uint)offset;
+        offset += tile_counts[i];
+    }
+}
+
+__kernel void raster_bin_fill(__global const clvis_raster_tri* tris, uint count, int tile_log2, int tiles_x,
+                              volatile __global uint* cursors, __global uint* entries, uint capacity)
+{
+    uint k = (uint)get_global_id(0);
+    if (k >= count) return;
+    clvis_raster_tri t = tris[k];
+    CLVIS_FOR_EACH_TILE(t, tile_log2, tiles_x, {
+        uint slot = atomic_inc(&cursors[tile]);
+        if (slot < capacity) entries[slot] = k;
+    })
+}

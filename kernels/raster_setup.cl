@@ -1,0 +1,125 @@
+/* Raster path, stage 1 of 3: projects and clips every triangle (one work-item each), rasterizes
+   the ones that touch few pixel centres at once into the visibility buffer, and lists the others
+   for raster_bin.cl (binning) and raster_fine.cl (tile rasterization). */
+#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+#pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
+#include "shared/raster.h"
+
+/* Triangles whose pixel bounding box holds at most this many pixel centres are rasterized here,
+   the rest are binned. */
+#ifndef CLVIS_RASTER_SMALL
+#define CLVIS_RASTER_SMALL 16
+#endif
+
+/* Worst case of Sutherland-Hodgman: a polygon of n vertices, I of them inside, comes out with
+   I + (sign changes) <= I + 2 min(I, n - I) <= 1.5 n vertices. Exact clipping keeps a triangle
+   convex (at most 3 + 5 = 8), but rounded cuts need not: 3 -> 4 -> 6 -> 9 -> 13 -> 19. */
+#define CLVIS_CLIP_CAPACITY 19
+
+typedef struct {
+    clvis_camera_gpu cam;
+    int cull;
+    volatile __global ulong* keys;
+    __global clvis_raster_tri* tris;
+    uint capacity;
+    volatile __global ulong* counters;
+} raster_setup_out;
+
+static clvis_clip_vertex load_camera_vertex(clvis_camera_gpu cam, __global const float* positions, uint v)
+{
+    size_t o = 3 * (size_t)v;
+    clvis_vec3 c = clvis_camera_from_world(cam, positions[o], positions[o + 1], positions[o + 2]);
+    clvis_clip_vertex p = {c.x, c.y, -c.z};
+    return p;
+}
+
+/* Rasterizes a small triangle on the spot, or lists it for binning. */
+static void emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_raster_vertex c, uint id,
+                          raster_setup_out out)
+{
+    clvis_raster_tri t;
+    if (!clvis_raster_setup(a, b, c, id, out.cam.width, out.cam.height, out.cull, &t)) return;
+    if ((t.x1 - t.x0 + 1) * (t.y1 - t.y0 + 1) <= CLVIS_RASTER_SMALL) {
+        for (int j = t.y0; j <= t.y1; ++j) {
+            for (int i = t.x0; i <= t.x1; ++i) {
+                ulong key = clvis_raster_sample(&t, i, j, out.cam.ortho, out.cam.near_d, out.cam.far_d);
+                if (key != CLVIS_BACKGROUND_KEY) atom_min(&out.keys[(size_t)j * out.cam.width + i], key);
+            }
+        }
+        return;
+    }
+    ulong slot = atom_inc(&out.counters[0]);
+    if (slot < out.capacity) out.tris[slot] = t;
+}
+
+/* Clips the triangle against near and the guard band and fans the polygon into triangles. */
+static void clip_and_emit(clvis_clip_vertex p0, clvis_clip_vertex p1, clvis_clip_vertex p2, uint id, float gx,
+                          float gy, raster_setup_out out)
+{
+    clvis_clip_vertex poly[CLVIS_CLIP_CAPACITY], next[CLVIS_CLIP_CAPACITY];
+    poly[0] = p0;
+    poly[1] = p1;
+    poly[2] = p2;
+    int n = 3;
+    for (int plane = 0; plane < CLVIS_CLIP_PLANES; ++plane) {
+        int m = 0;
+        for (int k = 0; k < n; ++k) {
+            clvis_clip_vertex a = poly[k], b = poly[k + 1 == n ? 0 : k + 1];
+            float da = clvis_clip_distance(a, plane, out.cam.near_d, gx, gy, out.cam.ortho);
+            float db = clvis_clip_distance(b, plane, out.cam.near_d, gx, gy, out.cam.ortho);
+            if (da >= 0.0f) next[m++] = a;
+            if ((da >= 0.0f) != (db >= 0.0f)) next[m++] = clvis_clip_cut(a, da, b, db);
+        }
+        if (m < 3) return;
+        for (int k = 0; k < m; ++k) poly[k] = next[k];
+        n = m;
+    }
+    /* Fan from the lowest vertex: the same polygon walked from anywhere, either way round, gives
+       the same triangles (coincident triangles then tie exactly). */
+    int s = 0;
+    for (int k = 1; k < n; ++k) s = clvis_clip_vertex_less(poly[k], poly[s]) ? k : s;
+    clvis_raster_vertex first = clvis_raster_vertex_from(out.cam, poly[s]);
+    clvis_raster_vertex prev = clvis_raster_vertex_from(out.cam, poly[s + 1 < n ? s + 1 : s + 1 - n]);
+    for (int k = 2; k < n; ++k) {
+        clvis_raster_vertex cur = clvis_raster_vertex_from(out.cam, poly[s + k < n ? s + k : s + k - n]);
+        emit_triangle(first, prev, cur, id, out);
+        prev = cur;
+    }
+}
+
+__kernel void raster_setup(clvis_camera_gpu cam, __global const float* positions, __global const uint* indices,
+                           uint triangle_count, int cull, volatile __global ulong* keys,
+                           __global clvis_raster_tri* tris, uint capacity, volatile __global ulong* counters)
+{
+    uint id = (uint)get_global_id(0);
+    if (id >= triangle_count) return;
+    raster_setup_out out = {cam, cull, keys, tris, capacity, counters};
+    size_t i = 3 * (size_t)id;
+    clvis_clip_vertex p[3];
+    p[0] = load_camera_vertex(cam, positions, indices[i]);
+    p[1] = load_camera_vertex(cam, positions, indices[i + 1]);
+    p[2] = load_camera_vertex(cam, positions, indices[i + 2]);
+
+    /* Wholly outside one plane of the view volume (each is a half-space, so the test holds
+       for points behind the eye too): nothing to draw. */
+    uint outside_all = 0x3Fu;
+    int needs_clip = 0;
+    float gx = CLVIS_GUARD_HALF * 2.0f * cam.right / (float)cam.width;
+    float gy = CLVIS_GUARD_HALF * 2.0f * cam.top / (float)cam.height;
+    for (int k = 0; k < 3; ++k) {
+        float h = cam.ortho ? 1.0f : p[k].d;
+        uint code = (p[k].d < cam.near_d ? 1u : 0u) | (p[k].d > cam.far_d ? 2u : 0u) |
+                    (p[k].x > cam.right * h ? 4u : 0u) | (p[k].x < -cam.right * h ? 8u : 0u) |
+                    (p[k].y > cam.top * h ? 16u : 0u) | (p[k].y < -cam.top * h ? 32u : 0u);
+        outside_all &= code;
+        for (int plane = 0; plane < CLVIS_CLIP_PLANES; ++plane)
+            needs_clip |= clvis_clip_distance(p[k], plane, cam.near_d, gx, gy, cam.ortho) < 0.0f;
+    }
+    if (outside_all) return;
+    if (needs_clip) {
+        clip_and_emit(p[0], p[1], p[2], id, gx, gy, out);
+        return;
+    }
+    emit_triangle(clvis_raster_vertex_from(cam, p[0]), clvis_raster_vertex_from(cam, p[1]),
+                  clvis_raster_vertex_from(cam, p[2]), id, out);
+}

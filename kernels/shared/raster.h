@@ -1,0 +1,239 @@
+/* Raster math of the raster path, shared by raster_setup.cl, raster_bin.cl, raster_fine.cl and the
+   host tests: clip planes in camera space, 16.16 fixed-point snapping, edge functions with the
+   top-left rule, the per-sample coverage and depth test, and the tile-overlap test of binning. */
+#ifndef CLVIS_SHARED_RASTER_H
+#define CLVIS_SHARED_RASTER_H
+
+#include "shared/camera.h"
+#include "shared/types.h"
+#include "shared/visibility.h"
+
+#ifndef __OPENCL_C_VERSION__
+#include <cmath>
+#endif
+
+/* Sub-pixel precision: raster coordinates are snapped to 1 / 2^16 px. */
+#define CLVIS_SUBPIXEL_BITS 16
+#define CLVIS_SUBPIXEL_ONE ((clvis_i64)1 << CLVIS_SUBPIXEL_BITS) /* one pixel, fixed units */
+#define CLVIS_SUBPIXEL_HALF (CLVIS_SUBPIXEL_ONE >> 1)           /* half a pixel: the sample offset */
+
+/* Guard band: snapped vertices stay within this many pixels of the image centre in x and in y
+   (geometry beyond is clipped away in camera space). With images of at most CLVIS_MAX_IMAGE_SIZE
+   pixels a side, a sample and a vertex are less than 8192 + 8000 < 2^14 px apart, so every
+   difference of fixed coordinates stays below 2^30 and every edge function value (two products
+   of such differences, plus the stepping of raster_fine.cl) below 2^62: int64 holds them. */
+#define CLVIS_GUARD_HALF 8000.0f          /* px from the image centre */
+#define CLVIS_MAX_IMAGE_SIZE 16384        /* px, width and height */
+
+/* Clipping against near and the four guard planes adds at most one vertex per plane. */
+#define CLVIS_CLIP_PLANES 5
+#define CLVIS_CLIP_MAX_VERTS (3 + CLVIS_CLIP_PLANES)
+
+/* Cull modes (RenderOptions::cull); front faces are counter-clockwise on screen. */
+#define CLVIS_CULL_NONE 0
+#define CLVIS_CULL_BACK 1
+#define CLVIS_CULL_FRONT 2
+
+/* A camera-space point as the clipper sees it: d = -z is the view depth. */
+typedef struct { float x, y, d; } clvis_clip_vertex;
+
+/* A triangle ready to rasterize (setup's output for triangles that are binned). Edge k is
+   opposite vertex k; the value of edge k at the centre of pixel (i, j) is
+   e0[k] + i * ex[k] + j * ey[k] (fixed units squared), minus one on edges that are not top or
+   left, so that a sample is covered iff all three values are >= 0. */
+typedef struct clvis_raster_tri {
+    clvis_i64 e0[3];           /* at the centre of pixel (0, 0), top-left bias applied */
+    clvis_i64 ex[3];           /* change per pixel to the right */
+    clvis_i64 ey[3];           /* change per pixel downwards */
+    float w[3];                /* per vertex: 1/d (perspective) or d (orthographic), over the doubled area */
+    float wc;                  /* the top-left bias given back: sum of w[k] over biased edges */
+    clvis_u32 id;              /* triangle id */
+    clvis_i32 x0, y0, x1, y1;  /* pixels whose centres it may cover, inclusive, inside the image */
+    clvis_i32 pad;
+} clvis_raster_tri;
+
+/* Signed distance-like value of a camera-space point to clip plane `plane` (>= 0: inside).
+   0: near; 1-4: the guard band's right, left, top and bottom planes. gx, gy: half extents of
+   the guard band on the screen (screen units: s.x = x / d, or x itself when orthographic). */
+static inline float clvis_clip_distance(clvis_clip_vertex p, int plane, float near_d, float gx, float gy, int ortho)
+{
+    float h = ortho ? 1.0f : p.d;
+    switch (plane) {
+    case 0: return p.d - near_d;
+    case 1: return gx * h - p.x;
+    case 2: return gx * h + p.x;
+    case 3: return gy * h - p.y;
+    default: return gy * h + p.y;
+    }
+}
+
+/* Lexicographic order on (x, y, d): the clipper computes every cut from an edge's endpoints in
+   this order, so two triangles that share an edge get bit-identical cut points on it. */
+static inline int clvis_clip_vertex_less(clvis_clip_vertex a, clvis_clip_vertex b)
+{
+    if (a.x != b.x) return a.x < b.x;
+    if (a.y != b.y) return a.y < b.y;
+    return a.d < b.d;
+}
+
+/* The point where segment ab crosses the plane on which a and b have distances da and db of
+   opposite signs; symmetric in (a, da) and (b, db) to the bit. */
+static inline clvis_clip_vertex clvis_clip_cut(clvis_clip_vertex a, float da, clvis_clip_vertex b, float db)
+{
+    if (clvis_clip_vertex_less(b, a)) {
+        clvis_clip_vertex tv = a; a = b; b = tv;
+        float td = da; da = db; db = td;
+    }
+    float t = da / (da - db);
+    clvis_clip_vertex p;
+    p.x = a.x + t * (b.x - a.x);
+    p.y = a.y + t * (b.y - a.y);
+    p.d = a.d + t * (b.d - a.d);
+    return p;
+}
+
+/* Snaps a raster coordinate to fixed point, rounding to nearest even. */
+static inline clvis_i64 clvis_snap(float v)
+{
+#ifdef __OPENCL_C_VERSION__
+    return convert_long_rte(v * (float)CLVIS_SUBPIXEL_ONE);
+#else
+    return (clvis_i64)std::nearbyint(v * (float)CLVIS_SUBPIXEL_ONE);
+#endif
+}
+
+/* floor(v / 2^CLVIS_SUBPIXEL_BITS) without relying on the shift of negative numbers. */
+static inline clvis_i64 clvis_fixed_floor(clvis_i64 v)
+{
+    return v >= 0 ? v >> CLVIS_SUBPIXEL_BITS : -((-v + CLVIS_SUBPIXEL_ONE - 1) >> CLVIS_SUBPIXEL_BITS);
+}
+
+/* A projected, snapped vertex: fixed-point raster position and its depth attribute
+   (1/d perspective, d orthographic). */
+typedef struct { clvis_i64 x, y; float v; } clvis_raster_vertex;
+
+/* The raster vertex of a camera-space point, through the shared projection. */
+static inline clvis_raster_vertex clvis_raster_vertex_from(clvis_camera_gpu cam, clvis_clip_vertex p)
+{
+    clvis_vec3 c;
+    c.x = p.x;
+    c.y = p.y;
+    c.z = -p.d;
+    clvis_vec2 r = clvis_raster_from_screen(cam, clvis_screen_from_camera(cam, c));
+    clvis_raster_vertex v;
+    v.x = clvis_snap(r.x);
+    v.y = clvis_snap(r.y);
+    v.v = cam.ortho ? p.d : 1.0f / p.d;
+    return v;
+}
+
+static inline int clvis_raster_vertex_less(clvis_raster_vertex a, clvis_raster_vertex b)
+{
+    return a.x < b.x || (a.x == b.x && a.y < b.y);
+}
+
+/* Edge k's coefficients for the edge from a to b: E(p) = A px + B py + C, positive inside a
+   triangle of positive doubled area. Top-left (y down): the inward normal (A, B) points right, or
+   straight down on a horizontal edge. Decided from integers only, so the two triangles beside a
+   shared edge (whose coefficients are exact negatives) never both own it. */
+static inline void clvis_raster_edge(clvis_raster_vertex a, clvis_raster_vertex b, clvis_i64* e0, clvis_i64* ex,
+                                     clvis_i64* ey, int* top_left)
+{
+    clvis_i64 A = b.y - a.y;
+    clvis_i64 B = a.x - b.x;
+    *top_left = A > 0 || (A == 0 && B > 0);
+    *ex = A * CLVIS_SUBPIXEL_ONE;
+    *ey = B * CLVIS_SUBPIXEL_ONE;
+    *e0 = A * (CLVIS_SUBPIXEL_HALF - a.x) + B * (CLVIS_SUBPIXEL_HALF - a.y) - (*top_left ? 0 : 1);
+}
+
+/* Sets up triangle (v0, v1, v2) for a width x height image. Returns 0 when it covers no sample:
+   zero doubled area after snapping, culled by `cull`, or no pixel centre in its bounding box. */
+static inline int clvis_raster_setup(clvis_raster_vertex v0, clvis_raster_vertex v1, clvis_raster_vertex v2,
+                                     clvis_u32 id, int width, int height, int cull, clvis_raster_tri* t)
+{
+    /* Doubled signed area; > 0 for a triangle counter-clockwise on screen (raster y points down). */
+    clvis_i64 area = (v0.x - v1.x) * (v2.y - v1.y) - (v0.y - v1.y) * (v2.x - v1.x);
+    if (area == 0) return 0;
+    if (cull == CLVIS_CULL_BACK && area < 0) return 0;
+    if (cull == CLVIS_CULL_FRONT && area > 0) return 0;
+    if (area < 0) { /* one orientation for the edge functions; the id does not depend on it */
+        clvis_raster_vertex tv = v1; v1 = v2; v2 = tv;
+        area = -area;
+    }
+    /* Start at the lowest vertex in (x, y) order: the same three vertices in any order then give
+       the same bits everywhere below, so coincident triangles tie exactly (lower id wins). */
+    if (clvis_raster_vertex_less(v1, v0) && clvis_raster_vertex_less(v1, v2)) {
+        clvis_raster_vertex tv = v0; v0 = v1; v1 = v2; v2 = tv;
+    } else if (clvis_raster_vertex_less(v2, v0) && clvis_raster_vertex_less(v2, v1)) {
+        clvis_raster_vertex tv = v0; v0 = v2; v2 = v1; v1 = tv;
+    }
+    clvis_i64 xmin = v0.x < v1.x ? (v0.x < v2.x ? v0.x : v2.x) : (v1.x < v2.x ? v1.x : v2.x);
+    clvis_i64 xmax = v0.x > v1.x ? (v0.x > v2.x ? v0.x : v2.x) : (v1.x > v2.x ? v1.x : v2.x);
+    clvis_i64 ymin = v0.y < v1.y ? (v0.y < v2.y ? v0.y : v2.y) : (v1.y < v2.y ? v1.y : v2.y);
+    clvis_i64 ymax = v0.y > v1.y ? (v0.y > v2.y ? v0.y : v2.y) : (v1.y > v2.y ? v1.y : v2.y);
+    /* Pixel i's centre lies at i + 1/2: the first centre at or after min, the last at or before max. */
+    clvis_i64 i0 = -clvis_fixed_floor(CLVIS_SUBPIXEL_HALF - xmin);
+    clvis_i64 i1 = clvis_fixed_floor(xmax - CLVIS_SUBPIXEL_HALF);
+    clvis_i64 j0 = -clvis_fixed_floor(CLVIS_SUBPIXEL_HALF - ymin);
+    clvis_i64 j1 = clvis_fixed_floor(ymax - CLVIS_SUBPIXEL_HALF);
+    if (i0 < 0) i0 = 0;
+    if (j0 < 0) j0 = 0;
+    if (i1 > width - 1) i1 = width - 1;
+    if (j1 > height - 1) j1 = height - 1;
+    if (i0 > i1 || j0 > j1) return 0;
+    t->x0 = (clvis_i32)i0;
+    t->y0 = (clvis_i32)j0;
+    t->x1 = (clvis_i32)i1;
+    t->y1 = (clvis_i32)j1;
+
+    int tl0, tl1, tl2;
+    clvis_raster_edge(v1, v2, &t->e0[0], &t->ex[0], &t->ey[0], &tl0);
+    clvis_raster_edge(v2, v0, &t->e0[1], &t->ex[1], &t->ey[1], &tl1);
+    clvis_raster_edge(v0, v1, &t->e0[2], &t->ex[2], &t->ey[2], &tl2);
+    float fa = (float)area;
+    t->w[0] = v0.v / fa;
+    t->w[1] = v1.v / fa;
+    t->w[2] = v2.v / fa;
+    t->wc = (tl0 ? 0.0f : t->w[0]) + (tl1 ? 0.0f : t->w[1]) + (tl2 ? 0.0f : t->w[2]);
+    t->id = id;
+    t->pad = 0;
+    return 1;
+}
+
+/* The depth attribute at a covered sample from its three (biased) edge values: the barycentric
+   combination of the vertices' 1/d (perspective) or d (orthographic), all weights >= 0. */
+static inline float clvis_raster_depth(float wc, float w0, float w1, float w2, clvis_i64 e0, clvis_i64 e1,
+                                       clvis_i64 e2, int ortho)
+{
+    float v = wc + (float)e0 * w0 + (float)e1 * w1 + (float)e2 * w2;
+    return ortho ? v : 1.0f / v;
+}
+
+/* The key triangle t leaves at the centre of pixel (i, j), or the background key when it does
+   not cover it or its depth there lies outside [near, far]. */
+static inline clvis_u64 clvis_raster_sample(const clvis_raster_tri* t, int i, int j, int ortho, float near_d,
+                                            float far_d)
+{
+    clvis_i64 e0 = t->e0[0] + (clvis_i64)i * t->ex[0] + (clvis_i64)j * t->ey[0];
+    clvis_i64 e1 = t->e0[1] + (clvis_i64)i * t->ex[1] + (clvis_i64)j * t->ey[1];
+    clvis_i64 e2 = t->e0[2] + (clvis_i64)i * t->ex[2] + (clvis_i64)j * t->ey[2];
+    /* Straight-line code (selects, no branches): raster_fine.cl vectorizes it across pixels. */
+    float d = clvis_raster_depth(t->wc, t->w[0], t->w[1], t->w[2], e0, e1, e2, ortho);
+    int hit = ((e0 | e1 | e2) >= 0) & (d >= near_d) & (d <= far_d);
+    return hit ? clvis_make_key(d, t->id) : CLVIS_BACKGROUND_KEY;
+}
+
+/* Whether t may cover a centre of the pixels [i0, i1] x [j0, j1]: each edge value is linear, so
+   its largest value over those centres is at the corner its gradient points to. Exact. */
+static inline int clvis_raster_overlaps(const clvis_raster_tri* t, int i0, int j0, int i1, int j1)
+{
+    for (int k = 0; k < 3; ++k) {
+        clvis_i64 i = t->ex[k] > 0 ? i1 : i0;
+        clvis_i64 j = t->ey[k] > 0 ? j1 : j0;
+        if (t->e0[k] + i * t->ex[k] + j * t->ey[k] < 0) return 0;
+    }
+    return 1;
+}
+
+#endif
