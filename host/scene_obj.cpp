@@ -13,6 +13,8 @@ namespace clvis::detail {
 
 namespace {
 
+using namespace std::string_view_literals;
+
 constexpr std::uint32_t CLVIS_OBJ_NO_NORMAL = 0xFFFFFFFFu;
 
 /// An index that names an element not yet defined when its face was read: checked at the end,
@@ -63,7 +65,7 @@ private:
         if (c_.at_line_end())
             fail(std::string("'") + statement + "' needs 3 coordinates, found " + std::to_string(i));
         float v;
-        if (!parse_float(c_, v, "#"))
+        if (!parse_float(c_, v, "#"sv))
             fail("malformed or out-of-range number '" + std::string(token_preview(c_)) + "'");
         if (!std::isfinite(v)) fail("non-finite coordinate in '" + std::string(statement) + "'");
         return v;
@@ -81,7 +83,7 @@ private:
     }
 
     /// One index of a face corner, resolved to 0-based; `count` elements of `kind` so far.
-    std::uint32_t index(int kind, std::size_t count, const char* stops)
+    std::uint32_t index(int kind, std::size_t count, std::string_view stops)
     {
         std::int64_t i;
         if (!parse_int(c_, i, stops))
@@ -106,14 +108,14 @@ private:
         for (;;) {
             c_.skip_blanks(true);
             if (c_.at_line_end()) break;
-            corners_.push_back(index(0, mesh_.positions.size() / 3, "/#"));
+            corners_.push_back(index(0, mesh_.positions.size() / 3, "/#"sv));
             std::uint32_t n = CLVIS_OBJ_NO_NORMAL;
             if (!c_.at_end() && *c_.p == '/') {
                 ++c_.p;
-                if (!c_.at_end() && *c_.p != '/') index(1, texcoord_count_, "/#");
+                if (!c_.at_end() && *c_.p != '/') index(1, texcoord_count_, "/#"sv);
                 if (!c_.at_end() && *c_.p == '/') {
                     ++c_.p;
-                    n = index(2, normals_.size() / 3, "#");
+                    n = index(2, normals_.size() / 3, "#"sv);
                 }
             }
             if (n == CLVIS_OBJ_NO_NORMAL) all_normals = false;

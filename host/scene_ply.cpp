@@ -162,11 +162,7 @@ public:
             return v;
         }
         double v;
-        const char* b = c_.p + (c_.p != c_.end && *c_.p == '+');
-        auto [q, ec] = std::from_chars(b, c_.end, v, std::chars_format::general);
-        if (ec != std::errc() || (q != c_.end && !TextCursor::is_blank(*q)))
-            fail(where, "malformed or out-of-range number '" + std::string(token_preview(c_)) + "'");
-        c_.p = q;
+        if (!parse_double(c_, v)) fail(where, "malformed or out-of-range number '" + std::string(token_preview(c_)) + "'");
         return v;
     }
 

@@ -99,12 +99,19 @@ private:
         float v;
         if (!parse_float(c_, v))
             fail("malformed or out-of-range number '" + std::string(token_preview(c_)) + "' in " + what);
-        if (!std::isfinite(v)) fail(std::string("non-finite number in ") + what);
+        return v;
+    }
+
+    float coordinate()
+    {
+        float v = number("a vertex");
+        if (!std::isfinite(v)) fail("non-finite coordinate in a vertex");
         return v;
     }
 
     void facet()
     {
+        // The normal is not used: exporters write "nan" for degenerate facets, and that is fine.
         expect("normal");
         for (int k = 0; k < 3; ++k) number("the facet normal");
         expect("outer");
@@ -113,7 +120,7 @@ private:
         std::uint32_t first = std::uint32_t(mesh_.positions.size() / 3);
         for (int v = 0; v < 3; ++v) {
             expect("vertex");
-            for (int k = 0; k < 3; ++k) mesh_.positions.push_back(number("a vertex"));
+            for (int k = 0; k < 3; ++k) mesh_.positions.push_back(coordinate());
         }
         expect("endloop");
         expect("endfacet");

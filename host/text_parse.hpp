@@ -107,6 +107,21 @@ inline bool parse_float(TextCursor& c, float& out, std::string_view stops = {})
     return true;
 }
 
+/// Reads a double like parse_float reads a float (for PLY's double properties).
+inline bool parse_double(TextCursor& c, double& out, std::string_view stops = {})
+{
+    const char* b = c.p;
+    if (b != c.end && *b == '+') {
+        ++b;
+        if (b != c.end && (*b == '+' || *b == '-')) return false;
+    }
+    auto [q, ec] = std::from_chars(b, c.end, out, std::chars_format::general);
+    if (ec != std::errc()) return false;
+    if (q != c.end && !TextCursor::is_blank(*q) && stops.find(*q) == std::string_view::npos) return false;
+    c.p = q;
+    return true;
+}
+
 /// Reads a decimal integer (optional sign) that ends like a number of parse_float.
 inline bool parse_int(TextCursor& c, std::int64_t& out, std::string_view stops = {})
 {

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Fuzzes the scene loaders: builds the libFuzzer targets of tests/fuzz/ with clang in build-fuzz
 # (ASan + UBSan), then runs each for SECONDS_PER_TARGET (default 60) from its seed corpus and
-# prints the executions per target. A crash stops with the input under build-fuzz/artifacts/;
+# dictionary (tests/fuzz/corpus/, tests/fuzz/dict/) and prints the executions per target.
+# A crash stops with the input under build-fuzz/artifacts/;
 # once fixed, keep it in tests/fuzz/regressions/<format>/ (fuzz_regression_test.cpp replays it).
 # Usage: scripts/fuzz.sh [SECONDS_PER_TARGET]
 set -euo pipefail
@@ -27,6 +28,7 @@ for entry in "${targets[@]}"; do
   echo "[fuzz] $target for ${seconds} s"
   status=0
   ./build-fuzz/tests/fuzz/$target "$work" tests/fuzz/corpus/$format tests/fuzz/regressions/$format \
+      -dict=tests/fuzz/dict/$format.dict \
       -max_total_time="$seconds" -max_len="$max_len" -timeout=10 -rss_limit_mb=2048 \
       -print_final_stats=1 -artifact_prefix="$artifacts" >"$log" 2>&1 || status=$?
   runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)

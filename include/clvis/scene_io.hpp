@@ -14,6 +14,18 @@ namespace clvis {
 
 /// Reads one mesh file; the format comes from the extension (.obj, .ply, .stl), else from the
 /// content. Throws Error(Io) naming the file (and line) on any malformed or unreadable input.
+///  - Triangle ids follow CONVENTIONS.md: faces in file order, polygons fanned (v0, vk, vk+1),
+///    degenerate faces kept. A file with no triangle at all (empty, points or lines only) is an
+///    error: "contains no triangles".
+///  - OBJ: every `v` becomes a vertex and every `f` (in any group) triangles; `l`, `p` and other
+///    statements are skipped. Indices may be negative (relative); 0 or out of range is an error.
+///    `normals` is filled when every face names normals and each position gets one normal.
+///  - PLY: ascii and binary (either byte order); vertex x, y, z of any numeric type, faces from
+///    the `vertex_indices` (or `vertex_index`) list; other elements are skipped.
+///  - STL: ascii, or binary when the size is 84 + 50 n (even if it starts with "solid"). Facet i
+///    gets vertices 3i, 3i+1, 3i+2: nothing is welded.
+///  - Binary errors name the byte offset and the element; counts in headers are checked against
+///    the file's size before anything is allocated.
 MeshData load_mesh(const std::string& path);
 
 /// A scene file (JSON): meshes with optional transforms, an optional camera and image size.
@@ -21,7 +33,11 @@ MeshData load_mesh(const std::string& path);
 ///     "camera": {"eye": [x,y,z], "target": [...], "up": [...], "fov": 45 | "ortho": h,
 ///                "near": n, "far": f},
 ///     "width": 1920, "height": 1080 }
-/// Relative mesh paths are relative to the scene file's folder.
+/// Relative mesh paths are relative to the scene file's folder. "meshes" is required and not
+/// empty; in "camera", "eye" and "target" are required, "up" defaults to [0,1,0], the projection
+/// to a 45 degree fov, near and far to Camera's defaults. Unknown fields are errors. Every error
+/// is Error(Io) naming the file and the JSON path ("meshes[1].transform: expected 16 numbers").
+/// A build without nlohmann::json throws Error(Io) saying so.
 struct SceneFile {
     Scene scene;
     std::optional<Camera> camera;
@@ -30,7 +46,8 @@ struct SceneFile {
 
 SceneFile load_scene_file(const std::string& path);
 
-/// Loads each path into one scene in order: mesh files, or a single scene file (.json).
+/// Loads each path into one scene in order: mesh files, or a single scene file (.json), whose
+/// camera and size are then dropped. No path, or a .json among others, is Error(InvalidArgument).
 Scene load_scene(const std::vector<std::string>& paths);
 
 } // namespace clvis
