@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -44,6 +45,14 @@ std::size_t size_of(PlyType t)
     return 1;
 }
 
+/// A value as the file would write it: 3, -1, 2.5, 1e+20.
+std::string number_text(double v)
+{
+    char text[32];
+    std::snprintf(text, sizeof text, "%.17g", v);
+    return text;
+}
+
 bool is_integer(PlyType t) { return t != PlyType::F32 && t != PlyType::F64; }
 
 bool type_from_name(std::string_view s, PlyType& t)
@@ -62,6 +71,13 @@ bool type_from_name(std::string_view s, PlyType& t)
     return false;
 }
 
+/// Which element a value belongs to ("vertex 12"), spelled out only for a message.
+struct Where {
+    const std::string* element;
+    std::uint64_t index;
+    std::string str() const { return *element + " " + std::to_string(index); }
+};
+
 /// Values of the body in binary, either byte order; positions in messages are byte offsets.
 class BinaryReader {
 public:
@@ -71,9 +87,9 @@ public:
     {
     }
 
-    [[noreturn]] void fail(const std::string& where, const std::string& what) const
+    [[noreturn]] void fail(const Where& where, const std::string& what) const
     {
-        clvis::detail::fail(name_, "byte " + std::to_string(value_at_) + " (" + where + "): " + what);
+        clvis::detail::fail(name_, "byte " + std::to_string(value_at_) + " (" + where.str() + "): " + what);
     }
 
     /// The most elements of `min_bytes` each that the rest of the body can hold.
@@ -82,7 +98,7 @@ public:
         return min_bytes == 0 ? std::numeric_limits<std::uint64_t>::max() : std::uint64_t(end_ - p_) / min_bytes;
     }
 
-    double scalar(PlyType t, const std::string& where)
+    double scalar(PlyType t, const Where& where)
     {
         std::size_t n = size_of(t);
         value_at_ = std::size_t(p_ - begin_);
@@ -107,7 +123,7 @@ public:
         return 0;
     }
 
-    void skip(PlyType t, std::uint64_t count, const std::string& where)
+    void skip(PlyType t, std::uint64_t count, const Where& where)
     {
         value_at_ = std::size_t(p_ - begin_);
         if (count > std::uint64_t(end_ - p_) / size_of(t))
@@ -135,9 +151,9 @@ public:
         c_.line = line;
     }
 
-    [[noreturn]] void fail(const std::string& where, const std::string& what) const
+    [[noreturn]] void fail(const Where& where, const std::string& what) const
     {
-        fail_at_line(name_, c_.line, where + ": " + what);
+        fail_at_line(name_, c_.line, where.str() + ": " + what);
     }
 
     /// Each value takes at least two characters (a digit and a separator).
@@ -147,7 +163,7 @@ public:
                                : (std::uint64_t(c_.end - c_.p) + 1) / (2 * min_values);
     }
 
-    double scalar(PlyType t, const std::string& where)
+    double scalar(PlyType t, const Where& where)
     {
         c_.skip_space();
         if (c_.at_end()) fail(where, "the file ends before the last value");
@@ -166,7 +182,7 @@ public:
         return v;
     }
 
-    void skip(PlyType t, std::uint64_t count, const std::string& where)
+    void skip(PlyType t, std::uint64_t count, const Where& where)
     {
         for (std::uint64_t i = 0; i < count; ++i) scalar(t, where);
     }
@@ -174,7 +190,8 @@ public:
     void finish()
     {
         c_.skip_space();
-        if (!c_.at_end()) fail("after the last element", "unexpected data '" + std::string(token_preview(c_)) + "'");
+        if (!c_.at_end())
+            fail_at_line(name_, c_.line, "unexpected data after the last element: '" + std::string(token_preview(c_)) + "'");
     }
 
 private:
@@ -317,10 +334,10 @@ private:
                             "' elements, more than the rest of the file can hold");
     }
 
-    static std::string where(const Element& e, std::uint64_t i) { return e.name + " " + std::to_string(i); }
+    static Where where(const Element& e, std::uint64_t i) { return {&e.name, i}; }
 
     template <class Reader>
-    std::uint64_t list_length(Reader& r, const Property& p, const std::string& at)
+    std::uint64_t list_length(Reader& r, const Property& p, const Where& at)
     {
         double n = r.scalar(p.count_type, at);
         if (n < 0) r.fail(at, "negative list length in '" + p.name + "'");
@@ -328,7 +345,7 @@ private:
     }
 
     template <class Reader>
-    void skip_property(Reader& r, const Property& p, const std::string& at)
+    void skip_property(Reader& r, const Property& p, const Where& at)
     {
         if (p.list) r.skip(p.type, list_length(r, p, at), at);
         else r.skip(p.type, 1, at);
@@ -399,14 +416,14 @@ private:
                     skip_property(r, p, where(e, i));
                     continue;
                 }
-                std::string at = where(e, i);
+                Where at = where(e, i);
                 std::uint64_t n = list_length(r, p, at);
                 if (n < 3) r.fail(at, "a face needs at least 3 vertices, this one has " + std::to_string(n));
                 poly.clear();
                 for (std::uint64_t j = 0; j < n; ++j) {
                     double v = r.scalar(p.type, at);
                     if (!(v >= 0 && v <= double(0xFFFFFFFEu) && v == std::floor(v)))
-                        r.fail(at, "vertex index " + std::to_string(v) + " is not a valid index");
+                        r.fail(at, "vertex index " + number_text(v) + " is not a valid index");
                     std::uint32_t index = std::uint32_t(v);
                     if (index > max_index_) { // the first face naming the largest index
                         max_index_ = index;
