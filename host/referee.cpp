@@ -423,7 +423,8 @@ std::string PixelVerdict::describe() const
     else if (source == 2) s += " [both]";
     s += ": ";
     s += id == background_id ? std::string("background") : "id " + std::to_string(id);
-    if (id != background_id && error != AnswerError::InvalidId) s += " at depth " + number(depth);
+    if (id != background_id && error != AnswerError::InvalidId && std::isfinite(depth))
+        s += " at depth " + number(depth);
     switch (error) {
     case AnswerError::None: s += ": acceptable"; break;
     case AnswerError::Coverage: s += " (coverage: " + number(edge_distance) + " px outside an edge)"; break;

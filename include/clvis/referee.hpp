@@ -56,7 +56,7 @@ struct PixelVerdict {
     AnswerError error = AnswerError::None;
     int source = -1;            ///< compare(): 0 the first buffer, 1 the second, 2 both; else -1
     double edge_distance = 0;   ///< px: how far outside its nearest edge the sample is (Coverage)
-    double depth = 0;           ///< view depth of the answer at the sample (if a triangle)
+    double depth = 0;           ///< view depth of the answer at the sample (NaN if undefined)
     double depth_excess = 0;    ///< relative: depth / d* - 1 (HiddenSurface)
     std::uint32_t nearest_id = background_id; ///< the nearest robustly covering triangle
     double nearest_depth = 0;   ///< d*, its depth
