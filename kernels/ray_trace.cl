@@ -33,6 +33,10 @@ typedef struct packet {
     lanes_f sx, sy, sz;          /* shear (clvis_ray_shear) */
     lanes_i kx0, kx1, ky0, ky1, kz0, kz1; /* kx == 0, kx == 1, ...: per-lane permutation */
     float cx, cy, cz;            /* direction of a central ray: orders children near to far */
+    int same_signs;              /* every lane enters boxes through the same planes, (neg_x, ...) */
+    int neg_x, neg_y, neg_z;
+    int perspective;             /* every lane starts at the eye */
+    float eye_x, eye_y, eye_z;
     int uniform;                 /* every lane has the same permutation, (ukx, uky, ukz) */
     int common_origin;           /* and the same origin (perspective), (uox, uoy, uoz) permuted */
     float uox, uoy, uoz;
@@ -41,26 +45,57 @@ typedef struct packet {
 
 static float pick(float x, float y, float z, int k) { return k == 0 ? x : (k == 1 ? y : z); }
 
+/* Whether any lane of a mask is set: ORs of halves first (PoCL's any() tests lane pairs one by
+   one, with a branch each; reducing to int2 and below made Oclgrind 21.10 crash). */
+static int any_lane(lanes_i m)
+{
+    int8 a = m.lo | m.hi;
+    return any(a.lo | a.hi);
+}
+
 /* clvis_raise / clvis_lower on lanes: a NaN v leaves acc. */
 static lanes_f raise(lanes_f acc, lanes_f v) { return select(acc, v, v > acc); }
 static lanes_f lower(lanes_f acc, lanes_f v) { return select(acc, v, v < acc); }
 
-/* clvis_ray_hits_box on every lane; `limit` is each ray's far distance (far, or its nearest hit). */
-static lanes_i packet_hits_box(const packet* p, __global const clvis_bvh_node* n, float near_t, lanes_f limit,
-                               lanes_f* entry)
+/* clvis_ray_hits_box on every lane; `cull` is each ray's far distance (far, or its nearest hit)
+   already scaled by CLVIS_IZE_SCALE. Where every lane enters through the same planes the planes
+   are picked once, and with a common origin (perspective) plane - origin is one scalar
+   subtraction: the same operations on the same values as the per-lane form. */
+static lanes_i packet_hits_box(const packet* p, __global const clvis_bvh_node* n, float near_t, lanes_f cull)
 {
-    lanes_f lox = (lanes_f)(n->lo_x), loy = (lanes_f)(n->lo_y), loz = (lanes_f)(n->lo_z);
-    lanes_f hix = (lanes_f)(n->hi_x), hiy = (lanes_f)(n->hi_y), hiz = (lanes_f)(n->hi_z);
-    lanes_f tnx = (select(lox, hix, p->nx) - p->ox) * p->ix;
-    lanes_f tny = (select(loy, hiy, p->ny) - p->oy) * p->iy;
-    lanes_f tnz = (select(loz, hiz, p->nz) - p->oz) * p->iz;
-    lanes_f tfx = (select(hix, lox, p->nx) - p->ox) * p->ix;
-    lanes_f tfy = (select(hiy, loy, p->ny) - p->oy) * p->iy;
-    lanes_f tfz = (select(hiz, loz, p->nz) - p->oz) * p->iz;
+    lanes_f tnx, tny, tnz, tfx, tfy, tfz;
+    if (p->same_signs) {
+        float nx = p->neg_x ? n->hi_x : n->lo_x, fx = p->neg_x ? n->lo_x : n->hi_x;
+        float ny = p->neg_y ? n->hi_y : n->lo_y, fy = p->neg_y ? n->lo_y : n->hi_y;
+        float nz = p->neg_z ? n->hi_z : n->lo_z, fz = p->neg_z ? n->lo_z : n->hi_z;
+        if (p->perspective) {
+            tnx = (lanes_f)(nx - p->eye_x) * p->ix;
+            tny = (lanes_f)(ny - p->eye_y) * p->iy;
+            tnz = (lanes_f)(nz - p->eye_z) * p->iz;
+            tfx = (lanes_f)(fx - p->eye_x) * p->ix;
+            tfy = (lanes_f)(fy - p->eye_y) * p->iy;
+            tfz = (lanes_f)(fz - p->eye_z) * p->iz;
+        } else {
+            tnx = ((lanes_f)(nx) - p->ox) * p->ix;
+            tny = ((lanes_f)(ny) - p->oy) * p->iy;
+            tnz = ((lanes_f)(nz) - p->oz) * p->iz;
+            tfx = ((lanes_f)(fx) - p->ox) * p->ix;
+            tfy = ((lanes_f)(fy) - p->oy) * p->iy;
+            tfz = ((lanes_f)(fz) - p->oz) * p->iz;
+        }
+    } else {
+        lanes_f lox = (lanes_f)(n->lo_x), loy = (lanes_f)(n->lo_y), loz = (lanes_f)(n->lo_z);
+        lanes_f hix = (lanes_f)(n->hi_x), hiy = (lanes_f)(n->hi_y), hiz = (lanes_f)(n->hi_z);
+        tnx = (select(lox, hix, p->nx) - p->ox) * p->ix;
+        tny = (select(loy, hiy, p->ny) - p->oy) * p->iy;
+        tnz = (select(loz, hiz, p->nz) - p->oz) * p->iz;
+        tfx = (select(hix, lox, p->nx) - p->ox) * p->ix;
+        tfy = (select(hiy, loy, p->ny) - p->oy) * p->iy;
+        tfz = (select(hiz, loz, p->nz) - p->oz) * p->iz;
+    }
     lanes_f t0 = raise(raise(raise((lanes_f)(near_t), tnx), tny), tnz);
     lanes_f t1 = lower(lower(lower((lanes_f)(CLVIS_INFINITY), tfx), tfy), tfz) * CLVIS_IZE_SCALE;
-    *entry = t0;
-    return (t0 <= t1) & (t0 <= limit * CLVIS_IZE_SCALE);
+    return (t0 <= t1) & (t0 <= cull);
 }
 
 static lanes_f permuted(float x, float y, float z, lanes_i k0, lanes_i k1)
@@ -197,6 +232,10 @@ static void make_packet(clvis_camera_gpu cam, int x0, int y0, packet* out)
     p.cx = dx.s5; p.cy = dy.s5; p.cz = dz.s5;
     p.ix = 1.0f / dx; p.iy = 1.0f / dy; p.iz = 1.0f / dz;
     p.nx = p.ix < 0.0f; p.ny = p.iy < 0.0f; p.nz = p.iz < 0.0f;
+    p.neg_x = p.nx.s0; p.neg_y = p.ny.s0; p.neg_z = p.nz.s0;
+    p.same_signs = !any((p.nx != p.neg_x) | (p.ny != p.neg_y) | (p.nz != p.neg_z));
+    p.perspective = !cam.ortho;
+    p.eye_x = cam.eye_x; p.eye_y = cam.eye_y; p.eye_z = cam.eye_z;
     *out = p;
 }
 
@@ -208,23 +247,23 @@ __kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh_node* nod
     packet p;
     make_packet(cam, x0, y0, &p);
     lanes_u best_t = (lanes_u)(clvis_float_bits(CLVIS_INFINITY)), best_id = (lanes_u)(CLVIS_BACKGROUND_ID);
-    lanes_f limit = (lanes_f)(cam.far_d); /* each ray's far distance: far, or its nearest hit */
+    /* each ray's far distance (far, or its nearest hit), scaled for the conservative slab test */
+    lanes_f cull = (lanes_f)(cam.far_d * CLVIS_IZE_SCALE);
 
     uint stack[CLVIS_RAY_STACK];
     uint sp = 0;
-    lanes_f entry;
-    uint node = node_count > 0 && any(packet_hits_box(&p, nodes, cam.near_d, limit, &entry)) ? 0u : CLVIS_RAY_NONE;
+    uint node = node_count > 0 && any_lane(packet_hits_box(&p, nodes, cam.near_d, cull)) ? 0u : CLVIS_RAY_NONE;
     while (node != CLVIS_RAY_NONE) {
         __global const clvis_bvh_node* nd = nodes + node;
         if (nd->count > 0) {
             for (uint k = nd->first; k < nd->first + nd->count; ++k)
                 packet_test_triangle(&p, tris + k, cam.near_d, cam.far_d, &best_t, &best_id);
-            limit = fmin((lanes_f)(cam.far_d), as_float16(best_t));
+            cull = fmin((lanes_f)(cam.far_d), as_float16(best_t)) * CLVIS_IZE_SCALE;
             node = CLVIS_RAY_NONE;
         } else {
             uint a = node + 1, b = nd->first;
-            int hit_a = any(packet_hits_box(&p, nodes + a, cam.near_d, limit, &entry));
-            int hit_b = any(packet_hits_box(&p, nodes + b, cam.near_d, limit, &entry));
+            int hit_a = any_lane(packet_hits_box(&p, nodes + a, cam.near_d, cull));
+            int hit_b = any_lane(packet_hits_box(&p, nodes + b, cam.near_d, cull));
             if (hit_a && hit_b) {
                 /* Nearest child first, by the box centres along a central ray. */
                 __global const clvis_bvh_node* na = nodes + a;
@@ -242,7 +281,7 @@ __kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh_node* nod
            hits found since it was pushed may cull it). */
         while (node == CLVIS_RAY_NONE && sp > 0) {
             uint n = stack[--sp];
-            if (any(packet_hits_box(&p, nodes + n, cam.near_d, limit, &entry))) node = n;
+            if (any_lane(packet_hits_box(&p, nodes + n, cam.near_d, cull))) node = n;
         }
     }
 
