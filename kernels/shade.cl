@@ -13,8 +13,6 @@ static float3 load_position(__global const float* p, uint v) { return vload3(v, 
 static uchar4 rgba(float3 c)
 {
     c = clamp(c, 0.0f, 1.0f);
-    /* sRGB-ish gamma 2.2 for display */
-    c = pow(c, (float3)(1.0f / 2.2f));
     return (uchar4)((uchar)(c.x * 255.0f + 0.5f), (uchar)(c.y * 255.0f + 0.5f), (uchar)(c.z * 255.0f + 0.5f), 255);
 }
 
@@ -71,5 +69,5 @@ __kernel void shade(__global const ulong* keys, __global uchar4* out, clvis_came
     float lambert = fmax(dot(n, -light), 0.0f);
     float facing = fmax(dot(n, -dir), 0.0f);
     float3 albedo = (float3)(0.85f, 0.80f, 0.72f);
-    out[pixel] = rgba(albedo * (0.08f + 0.62f * lambert + 0.30f * facing));
+    out[pixel] = rgba(albedo * (0.10f + 0.65f * lambert + 0.25f * facing));
 }

@@ -25,7 +25,7 @@ struct Image {
 
 struct ShadeOptions {
     ShadeMode mode = ShadeMode::Lambert;
-    Vec3 light_direction{-0.4, -0.6, -1.0}; ///< world space, towards which light travels
+    Vec3 light_direction{0.4, -0.8, -0.6}; ///< world space: the direction the light travels
 };
 
 /// Shades `vis` (made by `renderer` with `camera`) on the device.
