@@ -36,6 +36,17 @@ struct Bvh {
     double sah_cost = 0;                 ///< see bvh_sah_cost
 };
 
+/// The binary tree collapsed to 4-wide nodes for the kernel, depth-first from the root (node 0).
+struct Bvh4 {
+    std::vector<clvis_bvh4_node> nodes; ///< empty for a scene without triangles
+    int depth = 0;                      ///< 4-wide nodes on the longest root-to-leaf path
+};
+
+/// Collapses `bvh`: each 4-wide node takes a binary node's children and opens the largest
+/// interior ones until it holds four (Wald et al., "Getting rid of packets", 2008). The leaves and
+/// triangle slots stay those of `bvh`.
+Bvh4 collapse_bvh4(const Bvh& bvh);
+
 /// Builds the BVH of `triangle_count` triangles given by `indices` (3 per triangle, id order)
 /// into `positions` (3 floats per vertex). Same input, same bits, whatever the threads do.
 Bvh build_bvh(const float* positions, const std::uint32_t* indices, std::size_t triangle_count,

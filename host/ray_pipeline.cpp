@@ -12,6 +12,7 @@
 namespace clvis::detail {
 
 static_assert(sizeof(clvis_bvh_node) == 32, "layout shared with kernels/shared/bvh.h");
+static_assert(sizeof(clvis_bvh4_node) == 128, "layout shared with kernels/shared/bvh.h");
 static_assert(sizeof(clvis_bvh_tri) == 48, "layout shared with kernels/shared/bvh.h");
 
 namespace {
@@ -39,7 +40,8 @@ struct RayPipeline::Impl {
     cl::Kernel trace, brute;
     cl::NDRange trace_group, brute_group; ///< work-items per work-group
     int trace_stack = 0;                  ///< CLVIS_RAY_STACK of the built trace kernel
-    Bvh bvh;
+    Bvh bvh;   ///< the binary tree, kept for refits
+    Bvh4 wide; ///< what the kernel reads
     bool built = false;
     cl::Buffer nodes, tris;
     BvhStats stats;
@@ -59,11 +61,11 @@ struct RayPipeline::Impl {
                                             " (work-group size " + std::to_string(max_group) + ")");
     }
 
-    /// The trace kernel with a stack for the tree's depth (a pop follows every push, and each
-    /// interior node on the current path holds at most one entry).
+    /// The trace kernel with a stack for the tree's depth: each 4-wide node on the current path
+    /// leaves at most three children on it.
     void prepare_trace()
     {
-        int stack = (bvh.depth / stack_step + 1) * stack_step;
+        int stack = ((3 * wide.depth + 1) / stack_step + 1) * stack_step;
         if (stack == trace_stack) return;
         trace = cl::Kernel(device.program("ray_trace", "-DCLVIS_RAY_STACK=" + std::to_string(stack)), "ray_trace");
         trace_group = pick_group(trace);
@@ -73,17 +75,20 @@ struct RayPipeline::Impl {
     void upload(cl::CommandQueue& queue)
     {
         auto t0 = std::chrono::steady_clock::now();
-        std::uint64_t node_bytes = std::max<std::uint64_t>(bvh.nodes.size(), 1) * sizeof(clvis_bvh_node);
+        if (wide.nodes.size() >= (std::size_t(1) << 30))
+            throw Error(Error::Kind::Limit, "the BVH's " + std::to_string(wide.nodes.size()) +
+                                                " nodes exceed the ray kernel's 2^30");
+        std::uint64_t node_bytes = std::max<std::uint64_t>(wide.nodes.size(), 1) * sizeof(clvis_bvh4_node);
         std::uint64_t tri_bytes = std::max<std::uint64_t>(bvh.tris.size(), 1) * sizeof(clvis_bvh_tri);
-        device.check_allocation(node_bytes, "the BVH's " + std::to_string(bvh.nodes.size()) + " nodes");
+        device.check_allocation(node_bytes, "the BVH's " + std::to_string(wide.nodes.size()) + " nodes");
         device.check_allocation(tri_bytes, "the BVH's " + std::to_string(bvh.tris.size()) + " triangles");
         try {
             if (!nodes() || nodes.getInfo<CL_MEM_SIZE>() != node_bytes)
                 nodes = cl::Buffer(device.context, CL_MEM_READ_ONLY, node_bytes);
             if (!tris() || tris.getInfo<CL_MEM_SIZE>() != tri_bytes)
                 tris = cl::Buffer(device.context, CL_MEM_READ_ONLY, tri_bytes);
-            if (!bvh.nodes.empty())
-                queue.enqueueWriteBuffer(nodes, CL_FALSE, 0, bvh.nodes.size() * sizeof(clvis_bvh_node), bvh.nodes.data());
+            if (!wide.nodes.empty())
+                queue.enqueueWriteBuffer(nodes, CL_FALSE, 0, wide.nodes.size() * sizeof(clvis_bvh4_node), wide.nodes.data());
             if (!bvh.tris.empty())
                 queue.enqueueWriteBuffer(tris, CL_FALSE, 0, bvh.tris.size() * sizeof(clvis_bvh_tri), bvh.tris.data());
             queue.finish();
@@ -110,6 +115,7 @@ struct RayPipeline::Impl {
         o.sah_bins = options.bvh.sah_bins;
         auto t0 = std::chrono::steady_clock::now();
         bvh = build_bvh(scene.world_positions().data(), scene.world_indices().data(), scene.triangle_count(), o);
+        wide = collapse_bvh4(bvh);
         fill_stats(ms_since(t0), false);
         prepare_trace();
         upload(queue);
@@ -137,6 +143,7 @@ void RayPipeline::update(const Scene& scene, cl::CommandQueue& queue)
     }
     auto t0 = std::chrono::steady_clock::now();
     refit_bvh(m.bvh, scene.world_positions().data(), scene.world_indices().data());
+    m.wide = collapse_bvh4(m.bvh);
     m.fill_stats(ms_since(t0), true);
     m.upload(queue);
 }
@@ -165,7 +172,7 @@ void RayPipeline::render(const DeviceScene& scene, Frame& frame, bool brute)
         const cl::NDRange& g = m.trace_group;
         k.setArg(0, sizeof frame.gpu_camera, &frame.gpu_camera);
         k.setArg(1, m.nodes);
-        k.setArg(2, cl_uint(m.bvh.nodes.size()));
+        k.setArg(2, cl_uint(m.wide.nodes.size()));
         k.setArg(3, m.tris);
         k.setArg(4, frame.keys);
         std::size_t packets_x = (std::size_t(frame.width) + packet_w - 1) / packet_w;

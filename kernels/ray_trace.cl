@@ -1,8 +1,8 @@
 /* Casts one primary ray per pixel centre through the BVH (shared/bvh.h) and writes the visibility
    key of every pixel; launched by host/ray_pipeline.cpp. Each work-item traces a packet of 4x4
    pixels as the 16 lanes of OpenCL vectors (Wald et al., "Interactive rendering with coherent ray
-   tracing", 2001): one walk of the tree per packet, nearest child first, with a short stack; every
-   box and triangle test runs on all 16 rays at once, the same operations as the scalar tests of
+   tracing", 2001): one walk of the 4-wide tree per packet, nearest child first, with a short
+   stack; every box and triangle test runs on all 16 rays at once, the same operations as the scalar tests of
    shared/ray.h, so each ray gets the bits that ray_brute.cl computes for it. A node is skipped when
    no ray of the packet can meet it before its nearest hit so far. Work-groups are screen tiles. */
 #include "shared/bvh.h"
@@ -57,17 +57,17 @@ static int any_lane(lanes_i m)
 static lanes_f raise(lanes_f acc, lanes_f v) { return select(acc, v, v > acc); }
 static lanes_f lower(lanes_f acc, lanes_f v) { return select(acc, v, v < acc); }
 
-/* clvis_ray_hits_box on every lane; `cull` is each ray's far distance (far, or its nearest hit)
+/* clvis_ray_hits_box on every lane; child `k` of node `n`; `cull` is each ray's far distance (far, or its nearest hit)
    already scaled by CLVIS_IZE_SCALE. Where every lane enters through the same planes the planes
    are picked once, and with a common origin (perspective) plane - origin is one scalar
    subtraction: the same operations on the same values as the per-lane form. */
-static lanes_i packet_hits_box(const packet* p, __global const clvis_bvh_node* n, float near_t, lanes_f cull)
+static lanes_i packet_hits_box(const packet* p, __global const clvis_bvh4_node* n, int k, float near_t, lanes_f cull)
 {
     lanes_f tnx, tny, tnz, tfx, tfy, tfz;
     if (p->same_signs) {
-        float nx = p->neg_x ? n->hi_x : n->lo_x, fx = p->neg_x ? n->lo_x : n->hi_x;
-        float ny = p->neg_y ? n->hi_y : n->lo_y, fy = p->neg_y ? n->lo_y : n->hi_y;
-        float nz = p->neg_z ? n->hi_z : n->lo_z, fz = p->neg_z ? n->lo_z : n->hi_z;
+        float nx = p->neg_x ? n->hi_x[k] : n->lo_x[k], fx = p->neg_x ? n->lo_x[k] : n->hi_x[k];
+        float ny = p->neg_y ? n->hi_y[k] : n->lo_y[k], fy = p->neg_y ? n->lo_y[k] : n->hi_y[k];
+        float nz = p->neg_z ? n->hi_z[k] : n->lo_z[k], fz = p->neg_z ? n->lo_z[k] : n->hi_z[k];
         if (p->perspective) {
             tnx = (lanes_f)(nx - p->eye_x) * p->ix;
             tny = (lanes_f)(ny - p->eye_y) * p->iy;
@@ -84,8 +84,8 @@ static lanes_i packet_hits_box(const packet* p, __global const clvis_bvh_node* n
             tfz = ((lanes_f)(fz) - p->oz) * p->iz;
         }
     } else {
-        lanes_f lox = (lanes_f)(n->lo_x), loy = (lanes_f)(n->lo_y), loz = (lanes_f)(n->lo_z);
-        lanes_f hix = (lanes_f)(n->hi_x), hiy = (lanes_f)(n->hi_y), hiz = (lanes_f)(n->hi_z);
+        lanes_f lox = (lanes_f)(n->lo_x[k]), loy = (lanes_f)(n->lo_y[k]), loz = (lanes_f)(n->lo_z[k]);
+        lanes_f hix = (lanes_f)(n->hi_x[k]), hiy = (lanes_f)(n->hi_y[k]), hiz = (lanes_f)(n->hi_z[k]);
         tnx = (select(lox, hix, p->nx) - p->ox) * p->ix;
         tny = (select(loy, hiy, p->ny) - p->oy) * p->iy;
         tnz = (select(loz, hiz, p->nz) - p->oz) * p->iz;
@@ -239,7 +239,17 @@ static void make_packet(clvis_camera_gpu cam, int x0, int y0, packet* out)
     *out = p;
 }
 
-__kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh_node* nodes, uint node_count,
+/* Tests the triangles of a leaf on every lane. */
+static void packet_test_leaf(const packet* p, __global const clvis_bvh_tri* tris, uint first, uint count,
+                             clvis_camera_gpu cam, lanes_u* best_t, lanes_u* best_id, lanes_f* cull)
+{
+    for (uint k = first; k < first + count; ++k) packet_test_triangle(p, tris + k, cam.near_d, cam.far_d, best_t, best_id);
+    *cull = fmin((lanes_f)(cam.far_d), as_float16(*best_t)) * CLVIS_IZE_SCALE;
+}
+
+/* Stack entries name a child slot, (4-wide node << 2) | slot, so that a popped child is tested
+   again against the hits found since it was pushed. */
+__kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh4_node* nodes, uint node_count,
                         __global const clvis_bvh_tri* tris, __global ulong* keys)
 {
     int x0 = (int)get_global_id(0) * CLVIS_PACKET_W, y0 = (int)get_global_id(1) * CLVIS_PACKET_H;
@@ -252,37 +262,44 @@ __kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh_node* nod
 
     uint stack[CLVIS_RAY_STACK];
     uint sp = 0;
-    uint node = node_count > 0 && any_lane(packet_hits_box(&p, nodes, cam.near_d, cull)) ? 0u : CLVIS_RAY_NONE;
-    while (node != CLVIS_RAY_NONE) {
-        __global const clvis_bvh_node* nd = nodes + node;
-        if (nd->count > 0) {
-            for (uint k = nd->first; k < nd->first + nd->count; ++k)
-                packet_test_triangle(&p, tris + k, cam.near_d, cam.far_d, &best_t, &best_id);
-            cull = fmin((lanes_f)(cam.far_d), as_float16(best_t)) * CLVIS_IZE_SCALE;
+    uint node = node_count > 0 ? 0u : CLVIS_RAY_NONE;
+    for (;;) {
+        if (node != CLVIS_RAY_NONE) {
+            __global const clvis_bvh4_node* nd = nodes + node;
+            /* The children some ray meets, nearest first by their box centres along a central ray. */
+            uint order[4];
+            float along[4];
+            uint hits = 0;
+            for (int k = 0; k < 4; ++k) {
+                if (!any_lane(packet_hits_box(&p, nd, k, cam.near_d, cull))) continue;
+                float d = (nd->lo_x[k] + nd->hi_x[k]) * p.cx + (nd->lo_y[k] + nd->hi_y[k]) * p.cy +
+                          (nd->lo_z[k] + nd->hi_z[k]) * p.cz;
+                uint i = hits++;
+                for (; i > 0 && along[i - 1] > d; --i) {
+                    order[i] = order[i - 1];
+                    along[i] = along[i - 1];
+                }
+                order[i] = (uint)k;
+                along[i] = d;
+            }
             node = CLVIS_RAY_NONE;
-        } else {
-            uint a = node + 1, b = nd->first;
-            int hit_a = any_lane(packet_hits_box(&p, nodes + a, cam.near_d, cull));
-            int hit_b = any_lane(packet_hits_box(&p, nodes + b, cam.near_d, cull));
-            if (hit_a && hit_b) {
-                /* Nearest child first, by the box centres along a central ray. */
-                __global const clvis_bvh_node* na = nodes + a;
-                __global const clvis_bvh_node* nb = nodes + b;
-                float along = (nb->lo_x + nb->hi_x - na->lo_x - na->hi_x) * p.cx +
-                              (nb->lo_y + nb->hi_y - na->lo_y - na->hi_y) * p.cy +
-                              (nb->lo_z + nb->hi_z - na->lo_z - na->hi_z) * p.cz;
-                node = along < 0.0f ? b : a;
-                stack[sp++] = along < 0.0f ? a : b;
-            } else {
-                node = hit_a ? a : (hit_b ? b : CLVIS_RAY_NONE);
+            if (hits > 0) {
+                for (uint i = hits - 1; i > 0; --i) stack[sp++] = (uint)(nd - nodes) << 2 | order[i];
+                uint k = order[0];
+                if (nd->count[k] > 0) packet_test_leaf(&p, tris, nd->child[k], nd->count[k], cam, &best_t, &best_id, &cull);
+                else node = nd->child[k];
             }
         }
-        /* Pop the next node that some ray may still reach before its nearest hit (tested again:
-           hits found since it was pushed may cull it). */
+        /* Pop the next child that some ray may still reach before its nearest hit. */
         while (node == CLVIS_RAY_NONE && sp > 0) {
-            uint n = stack[--sp];
-            if (any_lane(packet_hits_box(&p, nodes + n, cam.near_d, cull))) node = n;
+            uint e = stack[--sp];
+            __global const clvis_bvh4_node* nd = nodes + (e >> 2);
+            uint k = e & 3;
+            if (!any_lane(packet_hits_box(&p, nd, (int)k, cam.near_d, cull))) continue;
+            if (nd->count[k] > 0) packet_test_leaf(&p, tris, nd->child[k], nd->count[k], cam, &best_t, &best_id, &cull);
+            else node = nd->child[k];
         }
+        if (node == CLVIS_RAY_NONE) break;
     }
 
     uint t_bits[CLVIS_PACKET], ids[CLVIS_PACKET];

@@ -118,7 +118,87 @@ std::size_t check_invariants(const Bvh& bvh, const Mesh& m, int max_leaf)
     return failures;
 }
 
+/// The 4-wide form holds every leaf of the binary tree exactly once, with its box, each interior
+/// child's box holds its own children, and unused slots have empty boxes; returns failures.
+std::size_t check_wide(const Bvh4& wide, const Bvh& bvh)
+{
+    if (bvh.nodes.empty()) return wide.nodes.empty() ? 0 : 1;
+    std::size_t failures = 0;
+    std::vector<int> slot_seen(bvh.tris.size(), 0), node_seen(wide.nodes.size(), 0);
+    std::size_t leaves = 0;
+    int deepest = 0;
+    std::vector<std::pair<std::uint32_t, int>> todo{{0, 1}};
+    while (!todo.empty()) {
+        auto [i, depth] = todo.back();
+        todo.pop_back();
+        if (i >= wide.nodes.size() || node_seen[i]++) return failures + 1;
+        deepest = std::max(deepest, depth);
+        const clvis_bvh4_node& w = wide.nodes[i];
+        int used = 0;
+        for (int k = 0; k < 4; ++k) {
+            bool empty = !(w.lo_x[k] <= w.hi_x[k]);
+            if (empty) {
+                failures += w.lo_y[k] <= w.hi_y[k] || w.lo_z[k] <= w.hi_z[k];
+                continue;
+            }
+            ++used;
+            if (w.count[k] > 0) {
+                ++leaves;
+                for (std::uint32_t s = w.child[k]; s < w.child[k] + w.count[k]; ++s) {
+                    if (s >= bvh.tris.size()) return failures + 1;
+                    ++slot_seen[s];
+                    const clvis_bvh_tri& t = bvh.tris[s];
+                    for (const float* v : {&t.v0_x, &t.v1_x, &t.v2_x})
+                        failures += !(w.lo_x[k] <= v[0] && v[0] <= w.hi_x[k] && w.lo_y[k] <= v[1] && v[1] <= w.hi_y[k] &&
+                                      w.lo_z[k] <= v[2] && v[2] <= w.hi_z[k]);
+                }
+            } else {
+                if (w.child[k] <= i || w.child[k] >= wide.nodes.size()) return failures + 1;
+                const clvis_bvh4_node& c = wide.nodes[w.child[k]];
+                for (int j = 0; j < 4; ++j) {
+                    if (!(c.lo_x[j] <= c.hi_x[j])) continue;
+                    failures += !(w.lo_x[k] <= c.lo_x[j] && c.hi_x[j] <= w.hi_x[k] && w.lo_y[k] <= c.lo_y[j] &&
+                                  c.hi_y[j] <= w.hi_y[k] && w.lo_z[k] <= c.lo_z[j] && c.hi_z[j] <= w.hi_z[k]);
+                }
+                todo.push_back({w.child[k], depth + 1});
+            }
+        }
+        failures += used < (bvh.nodes.size() == 1 ? 1 : 2);
+    }
+    for (int v : slot_seen) failures += v != 1;
+    for (int v : node_seen) failures += v != 1;
+    failures += leaves != bvh.leaves;
+    failures += deepest != wide.depth;
+    return failures;
+}
+
 } // namespace
+
+TEST_CASE("the 4-wide form keeps every leaf once and boxes that hold what is below them", "[bvh]")
+{
+    std::vector<std::pair<std::string, Mesh>> meshes;
+    meshes.emplace_back("sphere", from(make_uv_sphere(5000)));
+    meshes.emplace_back("soup", soup(3000, 7));
+    meshes.emplace_back("flat grid", flat_grid(30));
+    Mesh one;
+    one.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    one.indices = {0, 1, 2};
+    meshes.emplace_back("one triangle", one);
+    meshes.emplace_back("none", Mesh{});
+    for (auto& [name, mesh] : meshes) {
+        for (int leaf : {1, 4}) {
+            INFO(name << ", leaf size " << leaf);
+            BvhBuildOptions o;
+            o.max_leaf_size = leaf;
+            Bvh bvh = build(mesh, o);
+            Bvh4 wide = collapse_bvh4(bvh);
+            CHECK(check_wide(wide, bvh) == 0);
+            CHECK(wide.depth <= bvh.depth);
+            // every node but a lone root holds at least two children: at most leaves - 1 nodes
+            CHECK(wide.nodes.size() <= std::max<std::size_t>(1, bvh.leaves - 1));
+        }
+    }
+}
 
 TEST_CASE("every triangle lies in exactly one leaf and every box holds what is below it", "[bvh]")
 {

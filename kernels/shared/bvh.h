@@ -1,7 +1,9 @@
-/* The BVH as the ray kernels read it, written by host/bvh_build.cpp: binary nodes of 32 bytes in
-   depth-first order (an interior node's left child follows it, the right child is named), and
-   the triangles of each leaf copied contiguously with their ids, the vertices unchanged so the
-   watertight test (shared/ray.h) sees the scene's own float32 positions. */
+/* The BVH as host/bvh_build.cpp builds it and as ray_trace.cl reads it. The build makes a binary
+   tree of 32-byte nodes in depth-first order (an interior node's left child follows it, the right
+   child is named); the kernel reads it collapsed to 4-wide nodes of 128 bytes (each holds its up
+   to four children's boxes, SoA, so one visit tests four boxes). The triangles of each leaf are
+   copied contiguously with their ids, the vertices unchanged so the watertight test
+   (shared/ray.h) sees the scene's own float32 positions. */
 #ifndef CLVIS_SHARED_BVH_H
 #define CLVIS_SHARED_BVH_H
 
@@ -13,6 +15,14 @@ typedef struct clvis_bvh_node {
     float hi_x, hi_y, hi_z;   /* box maximum, world units; an empty box has lo > hi */
     clvis_u32 count;          /* leaf: triangles (> 0); interior: 0, left child = this + 1 */
 } clvis_bvh_node;
+
+/* A 4-wide node: child k's box is (lo_x[k], lo_y[k], lo_z[k]) - (hi_x[k], ...). An unused slot
+   has an empty box (lo = +inf, hi = -inf), which no ray meets. */
+typedef struct clvis_bvh4_node {
+    float lo_x[4], hi_x[4], lo_y[4], hi_y[4], lo_z[4], hi_z[4]; /* world units */
+    clvis_u32 child[4];       /* a 4-wide node's index (count 0) or a leaf's first triangle slot */
+    clvis_u32 count[4];       /* 0: child is a node; > 0: a leaf of that many triangles */
+} clvis_bvh4_node;
 
 /* One triangle of a leaf: its vertices as in the scene (v0, v1, v2 in index order), its id. */
 typedef struct clvis_bvh_tri {
