@@ -16,6 +16,7 @@
 namespace clvis::detail {
 
 static_assert(sizeof(clvis_raster_tri) == 112, "layout shared with kernels/shared/raster.h");
+static_assert(sizeof(clvis_raster_projected) == 16, "layout shared with kernels/shared/raster.h");
 static_assert(sizeof(clvis_camera_gpu) == 80, "layout shared with kernels/shared/camera.h");
 
 namespace {
@@ -53,12 +54,12 @@ struct RasterPipeline::Impl {
     Device::Impl& device;
     int tile_log2 = default_tile_log2;
     int cull = CLVIS_CULL_NONE;
-    cl::Kernel clear, setup, bin_count, bin_scan, bin_fill, fine;
-    std::size_t setup_group = 1, bin_group = 1, scan_items = 1;
+    cl::Kernel clear, zero, vertices, setup, bin_count, bin_scan, bin_fill, fine;
+    std::size_t zero_group = 1, vertex_group = 1, setup_group = 1, bin_group = 1, scan_items = 1;
     cl::NDRange fine_group;
     cl::Buffer counters; ///< ulong[2]: triangles listed by setup, bin entries
-    cl::Buffer tris, entries, tile_counts, offsets, cursors;
-    std::size_t tri_capacity = 0, entry_capacity = 0, tile_capacity = 0;
+    cl::Buffer projected, tris, entries, tile_counts, offsets, cursors;
+    std::size_t projected_capacity = 0, tri_capacity = 0, entry_capacity = 0, tile_capacity = 0;
 
     Impl(Device::Impl& d, const RenderOptions& o) : device(d), cull(cull_mode(o.cull))
     {
@@ -68,6 +69,9 @@ struct RasterPipeline::Impl {
         }
     }
 
+    /// Pixels per work-item of raster_fine.cl (CLVIS_FINE_SPAN): 8, or 4 on 4-pixel tiles.
+    std::size_t fine_span() const { return tile_log2 >= 3 ? 8 : 4; }
+
     std::size_t granted(const cl::Kernel& k) const
     {
         return k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device.device);
@@ -75,13 +79,16 @@ struct RasterPipeline::Impl {
 
     void pick_groups()
     {
+        zero_group = std::min(linear_group, floor_pow2(granted(zero)));
+        vertex_group = std::min(linear_group, floor_pow2(granted(vertices)));
         setup_group = std::min(linear_group, floor_pow2(granted(setup)));
         bin_group = std::min({linear_group, floor_pow2(granted(bin_count)), floor_pow2(granted(bin_fill))});
         scan_items = std::min(scan_group, floor_pow2(granted(bin_scan)));
-        // A group covers a band of one tile: its width and height divide the tile's edge.
+        // A group covers a band of one tile (a work-item a span of a row): its width and height
+        // divide the tile's edge.
         auto item_sizes = device.device.getInfo<CL_DEVICE_MAX_WORK_ITEM_SIZES>();
         std::size_t tile = std::size_t(1) << tile_log2, max_group = floor_pow2(granted(fine));
-        std::size_t gx = std::min({tile, max_group, floor_pow2(item_sizes.at(0))});
+        std::size_t gx = std::min({tile / fine_span(), max_group, floor_pow2(item_sizes.at(0))});
         std::size_t gy = std::min({tile, max_group / gx, floor_pow2(item_sizes.at(1))});
         fine_group = cl::NDRange(gx, gy);
     }
@@ -97,6 +104,17 @@ struct RasterPipeline::Impl {
         capacity = grown;
     }
 
+    /// Zeroes the first `count` 32-bit words of `buffer` (a kernel: Oclgrind then sees them written).
+    void zero_words(Frame& frame, cl::Buffer& buffer, std::size_t count, const char* stage)
+    {
+        cl::Event done;
+        zero.setArg(0, buffer);
+        zero.setArg(1, cl_uint(count));
+        frame.queue.enqueueNDRangeKernel(zero, cl::NullRange, cl::NDRange(round_up(count, zero_group)),
+                                         cl::NDRange(zero_group), nullptr, &done);
+        frame.stages->add(stage, done);
+    }
+
     cl_ulong read_counter(Frame& frame, int index)
     {
         cl_ulong value = 0;
@@ -107,19 +125,29 @@ struct RasterPipeline::Impl {
     /// Runs setup and returns how many triangles it listed for binning (all of them stored).
     std::size_t run_setup(const DeviceScene& scene, Frame& frame)
     {
+        reserve(projected, projected_capacity, scene.vertex_count, sizeof(clvis_raster_projected), 1,
+                "projected vertices");
+        cl::Event projected_done;
+        vertices.setArg(0, sizeof frame.gpu_camera, &frame.gpu_camera);
+        vertices.setArg(1, scene.positions);
+        vertices.setArg(2, cl_uint(scene.vertex_count));
+        vertices.setArg(3, projected);
+        frame.queue.enqueueNDRangeKernel(vertices, cl::NullRange, cl::NDRange(round_up(scene.vertex_count, vertex_group)),
+                                         cl::NDRange(vertex_group), nullptr, &projected_done);
+        frame.stages->add("setup", projected_done);
         for (;;) {
-            cl::Event zeroed, done;
-            frame.queue.enqueueFillBuffer(counters, cl_ulong(0), 0, 2 * sizeof(cl_ulong), nullptr, &zeroed);
-            frame.stages->add("setup", zeroed);
+            cl::Event done;
+            zero_words(frame, counters, 4, "setup");
             setup.setArg(0, sizeof frame.gpu_camera, &frame.gpu_camera);
             setup.setArg(1, scene.positions);
             setup.setArg(2, scene.indices);
             setup.setArg(3, cl_uint(scene.triangle_count));
-            setup.setArg(4, cl_int(cull));
-            setup.setArg(5, frame.keys);
-            setup.setArg(6, tris);
-            setup.setArg(7, cl_uint(std::min<std::size_t>(tri_capacity, 0xFFFFFFFFu)));
-            setup.setArg(8, counters);
+            setup.setArg(4, projected);
+            setup.setArg(5, cl_int(cull));
+            setup.setArg(6, frame.keys);
+            setup.setArg(7, tris);
+            setup.setArg(8, cl_uint(std::min<std::size_t>(tri_capacity, 0xFFFFFFFFu)));
+            setup.setArg(9, counters);
             frame.queue.enqueueNDRangeKernel(setup, cl::NullRange,
                                              cl::NDRange(round_up(scene.triangle_count, setup_group)),
                                              cl::NDRange(setup_group), nullptr, &done);
@@ -155,9 +183,8 @@ struct RasterPipeline::Impl {
             cursors = cl::Buffer(device.context, CL_MEM_READ_WRITE, n * sizeof(cl_uint));
             tile_capacity = n;
         }
-        cl::Event zeroed, counted, scanned, filled, drawn;
-        frame.queue.enqueueFillBuffer(tile_counts, cl_uint(0), 0, tile_count * sizeof(cl_uint), nullptr, &zeroed);
-        frame.stages->add("bin", zeroed);
+        cl::Event counted, scanned, filled, drawn;
+        zero_words(frame, tile_counts, tile_count, "bin");
         cl::NDRange bin_global(round_up(listed, bin_group)), bin_local(bin_group);
         bin_count.setArg(0, tris);
         bin_count.setArg(1, cl_uint(listed));
@@ -197,7 +224,7 @@ struct RasterPipeline::Impl {
         fine.setArg(4, cl_int(tiles_x));
         fine.setArg(5, sizeof frame.gpu_camera, &frame.gpu_camera);
         fine.setArg(6, frame.keys);
-        cl::NDRange fine_global(std::size_t(tiles_x) << tile_log2, std::size_t(tiles_y) << tile_log2);
+        cl::NDRange fine_global((std::size_t(tiles_x) << tile_log2) / fine_span(), std::size_t(tiles_y) << tile_log2);
         frame.queue.enqueueNDRangeKernel(fine, cl::NullRange, fine_global, fine_group, nullptr, &drawn);
         frame.stages->add("raster", drawn);
     }
@@ -214,12 +241,16 @@ RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& option
     Impl& m = *impl_;
     try {
         m.clear = make_clear_kernel(device);
-        m.setup = cl::Kernel(device.program("raster_setup"), "raster_setup");
+        cl::Program setup = device.program("raster_setup");
+        m.vertices = cl::Kernel(setup, "raster_setup_vertices");
+        m.setup = cl::Kernel(setup, "raster_setup");
         cl::Program bin = device.program("raster_bin");
+        m.zero = cl::Kernel(bin, "raster_bin_zero");
         m.bin_count = cl::Kernel(bin, "raster_bin_count");
         m.bin_scan = cl::Kernel(bin, "raster_bin_scan");
         m.bin_fill = cl::Kernel(bin, "raster_bin_fill");
-        m.fine = cl::Kernel(device.program("raster_fine"), "raster_fine");
+        m.fine = cl::Kernel(device.program("raster_fine", "-DCLVIS_FINE_SPAN=" + std::to_string(m.fine_span())),
+                            "raster_fine");
         m.pick_groups();
         m.counters = cl::Buffer(device.context, CL_MEM_READ_WRITE, 2 * sizeof(cl_ulong));
         m.reserve(m.tris, m.tri_capacity, first_tri_capacity, sizeof(clvis_raster_tri), first_tri_capacity,

@@ -19,6 +19,14 @@
         }                                                                                          \
     }
 
+/* Zeroes `count` words: the counters before raster_setup.cl lists triangles, the tile counts
+   before raster_bin_count. */
+__kernel void raster_bin_zero(__global uint* words, uint count)
+{
+    uint i = (uint)get_global_id(0);
+    if (i < count) words[i] = 0;
+}
+
 __kernel void raster_bin_count(__global const clvis_raster_tri* tris, uint count, int tile_log2, int tiles_x,
                                volatile __global uint* tile_counts)
 {

@@ -1,6 +1,7 @@
-/* Raster path, stage 1 of 3: projects and clips every triangle (one work-item each), rasterizes
-   the ones that touch few pixel centres at once into the visibility buffer, and lists the others
-   for raster_bin.cl (binning) and raster_fine.cl (tile rasterization). */
+/* Raster path, stage 1 of 3: raster_setup_vertices projects every vertex once; raster_setup then
+   takes every triangle (one work-item each), clips those that need it, rasterizes the ones that
+   touch few pixel centres at once into the visibility buffer, and lists the others for
+   raster_bin.cl (binning) and raster_fine.cl (tile rasterization). */
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
 #include "shared/raster.h"
@@ -87,39 +88,42 @@ static void clip_and_emit(clvis_clip_vertex p0, clvis_clip_vertex p1, clvis_clip
     }
 }
 
+/* Straight-line code, one work-item per vertex: PoCL runs it as a vector loop. */
+__kernel void raster_setup_vertices(clvis_camera_gpu cam, __global const float* positions, uint vertex_count,
+                                    __global clvis_raster_projected* projected)
+{
+    uint v = (uint)get_global_id(0);
+    if (v >= vertex_count) return;
+    clvis_clip_vertex p = load_camera_vertex(cam, positions, v);
+    clvis_u32 code = clvis_outcode(cam, p);
+    clvis_raster_vertex r = clvis_raster_vertex_from(cam, p);
+    int keep = (code & CLVIS_OUT_CLIP) == 0u;
+    clvis_raster_projected out = {keep ? (int)r.x : 0, keep ? (int)r.y : 0, r.v, code};
+    projected[v] = out;
+}
+
+static clvis_raster_vertex widen(clvis_raster_projected p)
+{
+    clvis_raster_vertex v = {p.x, p.y, p.v};
+    return v;
+}
+
 __kernel void raster_setup(clvis_camera_gpu cam, __global const float* positions, __global const uint* indices,
-                           uint triangle_count, int cull, volatile __global ulong* keys,
-                           __global clvis_raster_tri* tris, uint capacity, volatile __global ulong* counters)
+                           uint triangle_count, __global const clvis_raster_projected* projected, int cull,
+                           volatile __global ulong* keys, __global clvis_raster_tri* tris, uint capacity,
+                           volatile __global ulong* counters)
 {
     uint id = (uint)get_global_id(0);
     if (id >= triangle_count) return;
-    raster_setup_out out = {cam, cull, keys, tris, capacity, counters};
     size_t i = 3 * (size_t)id;
-    clvis_clip_vertex p[3];
-    p[0] = load_camera_vertex(cam, positions, indices[i]);
-    p[1] = load_camera_vertex(cam, positions, indices[i + 1]);
-    p[2] = load_camera_vertex(cam, positions, indices[i + 2]);
-
-    /* Wholly outside one plane of the view volume (each is a half-space, so the test holds
-       for points behind the eye too): nothing to draw. */
-    uint outside_all = 0x3Fu;
-    int needs_clip = 0;
-    float gx = CLVIS_GUARD_HALF * 2.0f * cam.right / (float)cam.width;
-    float gy = CLVIS_GUARD_HALF * 2.0f * cam.top / (float)cam.height;
-    for (int k = 0; k < 3; ++k) {
-        float h = cam.ortho ? 1.0f : p[k].d;
-        uint code = (p[k].d < cam.near_d ? 1u : 0u) | (p[k].d > cam.far_d ? 2u : 0u) |
-                    (p[k].x > cam.right * h ? 4u : 0u) | (p[k].x < -cam.right * h ? 8u : 0u) |
-                    (p[k].y > cam.top * h ? 16u : 0u) | (p[k].y < -cam.top * h ? 32u : 0u);
-        outside_all &= code;
-        for (int plane = 0; plane < CLVIS_CLIP_PLANES; ++plane)
-            needs_clip |= clvis_clip_distance(p[k], plane, cam.near_d, gx, gy, cam.ortho) < 0.0f;
-    }
-    if (outside_all) return;
-    if (needs_clip) {
-        clip_and_emit(p[0], p[1], p[2], id, gx, gy, out);
+    uint a = indices[i], b = indices[i + 1], c = indices[i + 2];
+    clvis_raster_projected pa = projected[a], pb = projected[b], pc = projected[c];
+    if (pa.code & pb.code & pc.code & CLVIS_OUT_VIEW) return;
+    raster_setup_out out = {cam, cull, keys, tris, capacity, counters};
+    if ((pa.code | pb.code | pc.code) & CLVIS_OUT_CLIP) {
+        clip_and_emit(load_camera_vertex(cam, positions, a), load_camera_vertex(cam, positions, b),
+                      load_camera_vertex(cam, positions, c), id, clvis_guard_x(cam), clvis_guard_y(cam), out);
         return;
     }
-    emit_triangle(clvis_raster_vertex_from(cam, p[0]), clvis_raster_vertex_from(cam, p[1]),
-                  clvis_raster_vertex_from(cam, p[2]), id, out);
+    emit_triangle(widen(pa), widen(pb), widen(pc), id, out);
 }

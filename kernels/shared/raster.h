@@ -67,6 +67,40 @@ static inline float clvis_clip_distance(clvis_clip_vertex p, int plane, float ne
     }
 }
 
+/* Half extents of the guard band on the screen (screen units, see clvis_clip_distance). */
+static inline float clvis_guard_x(clvis_camera_gpu cam) { return CLVIS_GUARD_HALF * 2.0f * cam.right / (float)cam.width; }
+static inline float clvis_guard_y(clvis_camera_gpu cam) { return CLVIS_GUARD_HALF * 2.0f * cam.top / (float)cam.height; }
+
+/* Outcode bits of a camera-space point. The first six say which planes of the view volume it
+   lies outside (a triangle whose three vertices share one is invisible: each plane bounds a
+   half-space); CLVIS_OUT_CLIP says it lies outside near or the guard band, so that a triangle
+   with such a vertex goes through the clipper. */
+#define CLVIS_OUT_NEAR 1u
+#define CLVIS_OUT_FAR 2u
+#define CLVIS_OUT_RIGHT 4u
+#define CLVIS_OUT_LEFT 8u
+#define CLVIS_OUT_TOP 16u
+#define CLVIS_OUT_BOTTOM 32u
+#define CLVIS_OUT_VIEW 63u
+#define CLVIS_OUT_CLIP 64u
+
+static inline clvis_u32 clvis_outcode(clvis_camera_gpu cam, clvis_clip_vertex p)
+{
+    float h = cam.ortho ? 1.0f : p.d;
+    float gx = clvis_guard_x(cam), gy = clvis_guard_y(cam);
+    /* The clip test is the clipper's own (clvis_clip_distance < 0 for some plane), so that a vertex
+       kept whole here is kept whole by the clipper of a neighbour that needs clipping. */
+    int clip = (clvis_clip_distance(p, 0, cam.near_d, gx, gy, cam.ortho) < 0.0f) |
+               (clvis_clip_distance(p, 1, cam.near_d, gx, gy, cam.ortho) < 0.0f) |
+               (clvis_clip_distance(p, 2, cam.near_d, gx, gy, cam.ortho) < 0.0f) |
+               (clvis_clip_distance(p, 3, cam.near_d, gx, gy, cam.ortho) < 0.0f) |
+               (clvis_clip_distance(p, 4, cam.near_d, gx, gy, cam.ortho) < 0.0f);
+    return (p.d < cam.near_d ? CLVIS_OUT_NEAR : 0u) | (p.d > cam.far_d ? CLVIS_OUT_FAR : 0u) |
+           (p.x > cam.right * h ? CLVIS_OUT_RIGHT : 0u) | (p.x < -cam.right * h ? CLVIS_OUT_LEFT : 0u) |
+           (p.y > cam.top * h ? CLVIS_OUT_TOP : 0u) | (p.y < -cam.top * h ? CLVIS_OUT_BOTTOM : 0u) |
+           (clip ? CLVIS_OUT_CLIP : 0u);
+}
+
 /* Lexicographic order on (x, y, d): the clipper computes every cut from an edge's endpoints in
    this order, so two triangles that share an edge get bit-identical cut points on it. */
 static inline int clvis_clip_vertex_less(clvis_clip_vertex a, clvis_clip_vertex b)
@@ -96,7 +130,7 @@ static inline clvis_clip_vertex clvis_clip_cut(clvis_clip_vertex a, float da, cl
 static inline clvis_i64 clvis_snap(float v)
 {
 #ifdef __OPENCL_C_VERSION__
-    return convert_long_rte(v * (float)CLVIS_SUBPIXEL_ONE);
+    return (clvis_i64)rint(v * (float)CLVIS_SUBPIXEL_ONE);
 #else
     return (clvis_i64)std::nearbyint(v * (float)CLVIS_SUBPIXEL_ONE);
 #endif
@@ -111,6 +145,13 @@ static inline clvis_i64 clvis_fixed_floor(clvis_i64 v)
 /* A projected, snapped vertex: fixed-point raster position and its depth attribute
    (1/d perspective, d orthographic). */
 typedef struct { clvis_i64 x, y; float v; } clvis_raster_vertex;
+
+/* A vertex as the vertex pass of raster_setup.cl leaves it for the triangle pass. */
+typedef struct clvis_raster_projected {
+    clvis_i32 x, y;  /* snapped raster position, fixed units (0 when code has CLVIS_OUT_CLIP) */
+    float v;         /* 1/d (perspective) or d (orthographic) */
+    clvis_u32 code;  /* clvis_outcode */
+} clvis_raster_projected;
 
 /* The raster vertex of a camera-space point, through the shared projection. */
 static inline clvis_raster_vertex clvis_raster_vertex_from(clvis_camera_gpu cam, clvis_clip_vertex p)
@@ -152,6 +193,22 @@ static inline void clvis_raster_edge(clvis_raster_vertex a, clvis_raster_vertex 
 static inline int clvis_raster_setup(clvis_raster_vertex v0, clvis_raster_vertex v1, clvis_raster_vertex v2,
                                      clvis_u32 id, int width, int height, int cull, clvis_raster_tri* t)
 {
+    /* The box first: most triangles of a dense mesh hold no pixel centre and stop here. */
+    clvis_i64 xmin = v0.x < v1.x ? (v0.x < v2.x ? v0.x : v2.x) : (v1.x < v2.x ? v1.x : v2.x);
+    clvis_i64 xmax = v0.x > v1.x ? (v0.x > v2.x ? v0.x : v2.x) : (v1.x > v2.x ? v1.x : v2.x);
+    clvis_i64 ymin = v0.y < v1.y ? (v0.y < v2.y ? v0.y : v2.y) : (v1.y < v2.y ? v1.y : v2.y);
+    clvis_i64 ymax = v0.y > v1.y ? (v0.y > v2.y ? v0.y : v2.y) : (v1.y > v2.y ? v1.y : v2.y);
+    /* Pixel i's centre lies at i + 1/2: the first centre at or after min, the last at or before max. */
+    clvis_i64 i0 = -clvis_fixed_floor(CLVIS_SUBPIXEL_HALF - xmin);
+    clvis_i64 i1 = clvis_fixed_floor(xmax - CLVIS_SUBPIXEL_HALF);
+    clvis_i64 j0 = -clvis_fixed_floor(CLVIS_SUBPIXEL_HALF - ymin);
+    clvis_i64 j1 = clvis_fixed_floor(ymax - CLVIS_SUBPIXEL_HALF);
+    if (i0 < 0) i0 = 0;
+    if (j0 < 0) j0 = 0;
+    if (i1 > width - 1) i1 = width - 1;
+    if (j1 > height - 1) j1 = height - 1;
+    if (i0 > i1 || j0 > j1) return 0;
+
     /* Doubled signed area; > 0 for a triangle counter-clockwise on screen (raster y points down). */
     clvis_i64 area = (v0.x - v1.x) * (v2.y - v1.y) - (v0.y - v1.y) * (v2.x - v1.x);
     if (area == 0) return 0;
@@ -168,20 +225,6 @@ static inline int clvis_raster_setup(clvis_raster_vertex v0, clvis_raster_vertex
     } else if (clvis_raster_vertex_less(v2, v0) && clvis_raster_vertex_less(v2, v1)) {
         clvis_raster_vertex tv = v0; v0 = v2; v2 = v1; v1 = tv;
     }
-    clvis_i64 xmin = v0.x < v1.x ? (v0.x < v2.x ? v0.x : v2.x) : (v1.x < v2.x ? v1.x : v2.x);
-    clvis_i64 xmax = v0.x > v1.x ? (v0.x > v2.x ? v0.x : v2.x) : (v1.x > v2.x ? v1.x : v2.x);
-    clvis_i64 ymin = v0.y < v1.y ? (v0.y < v2.y ? v0.y : v2.y) : (v1.y < v2.y ? v1.y : v2.y);
-    clvis_i64 ymax = v0.y > v1.y ? (v0.y > v2.y ? v0.y : v2.y) : (v1.y > v2.y ? v1.y : v2.y);
-    /* Pixel i's centre lies at i + 1/2: the first centre at or after min, the last at or before max. */
-    clvis_i64 i0 = -clvis_fixed_floor(CLVIS_SUBPIXEL_HALF - xmin);
-    clvis_i64 i1 = clvis_fixed_floor(xmax - CLVIS_SUBPIXEL_HALF);
-    clvis_i64 j0 = -clvis_fixed_floor(CLVIS_SUBPIXEL_HALF - ymin);
-    clvis_i64 j1 = clvis_fixed_floor(ymax - CLVIS_SUBPIXEL_HALF);
-    if (i0 < 0) i0 = 0;
-    if (j0 < 0) j0 = 0;
-    if (i1 > width - 1) i1 = width - 1;
-    if (j1 > height - 1) j1 = height - 1;
-    if (i0 > i1 || j0 > j1) return 0;
     t->x0 = (clvis_i32)i0;
     t->y0 = (clvis_i32)j0;
     t->x1 = (clvis_i32)i1;
