@@ -45,12 +45,16 @@ typedef struct packet {
 
 static float pick(float x, float y, float z, int k) { return k == 0 ? x : (k == 1 ? y : z); }
 
-/* Whether any lane of a mask is set: ORs of halves first (PoCL's any() tests lane pairs one by
-   one, with a branch each; reducing to int2 and below made Oclgrind 21.10 crash). */
-static int any_lane(lanes_i m)
+/* The OR of a mask's lanes (a bit set in any lane), by halves through private memory (which
+   compilers turn into shuffles): Oclgrind 21.10 tracked .lo/.hi swizzles of 16-wide vectors as
+   uninitialised and crashed on int2 ones. */
+static int or_lanes(lanes_i m)
 {
-    int8 a = m.lo | m.hi;
-    return any(a.lo | a.hi);
+    int r[CLVIS_PACKET];
+    vstore16(m, 0, r);
+    vstore8(vload8(0, r) | vload8(1, r), 0, r);
+    vstore4(vload4(0, r) | vload4(1, r), 0, r);
+    return r[0] | r[1] | r[2] | r[3];
 }
 
 /* clvis_raise / clvis_lower on lanes: a NaN v leaves acc. */
@@ -270,8 +274,13 @@ __kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh4_node* no
             uint order[4];
             float along[4];
             uint hits = 0;
+            /* the four children's masks as bits 0-3 of each lane, then one reduction for all */
+            int child_bits = or_lanes((packet_hits_box(&p, nd, 0, cam.near_d, cull) & 1) |
+                                      (packet_hits_box(&p, nd, 1, cam.near_d, cull) & 2) |
+                                      (packet_hits_box(&p, nd, 2, cam.near_d, cull) & 4) |
+                                      (packet_hits_box(&p, nd, 3, cam.near_d, cull) & 8));
             for (int k = 0; k < 4; ++k) {
-                if (!any_lane(packet_hits_box(&p, nd, k, cam.near_d, cull))) continue;
+                if (!(child_bits & (1 << k))) continue;
                 float d = (nd->lo_x[k] + nd->hi_x[k]) * p.cx + (nd->lo_y[k] + nd->hi_y[k]) * p.cy +
                           (nd->lo_z[k] + nd->hi_z[k]) * p.cz;
                 uint i = hits++;
@@ -295,7 +304,7 @@ __kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh4_node* no
             uint e = stack[--sp];
             __global const clvis_bvh4_node* nd = nodes + (e >> 2);
             uint k = e & 3;
-            if (!any_lane(packet_hits_box(&p, nd, (int)k, cam.near_d, cull))) continue;
+            if (or_lanes(packet_hits_box(&p, nd, (int)k, cam.near_d, cull)) >= 0) continue; /* no lane's sign bit */
             if (nd->count[k] > 0) packet_test_leaf(&p, tris, nd->child[k], nd->count[k], cam, &best_t, &best_id, &cull);
             else node = nd->child[k];
         }
