@@ -10,6 +10,9 @@
 #if CLVIS_HAVE_EMBREE
 
 #include <embree3/rtcore.h>
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
 #include <algorithm>
 #include <atomic>
@@ -53,6 +56,20 @@ void check(RTCDevice device, const char* call)
     RTCError e = rtcGetDeviceError(device);
     if (e != RTC_ERROR_NONE) throw std::runtime_error(std::string("embree: ") + call + ": " + error_name(e));
 }
+
+/// Embree asks every tracing thread for flush-to-zero and denormals-are-zero (its verbose mode
+/// warns of a severe slowdown without them); the caller's mode is restored on leaving.
+class DenormalsOff {
+public:
+#if defined(__SSE__)
+    DenormalsOff() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | ftz_daz); }
+    ~DenormalsOff() { _mm_setcsr(saved_); }
+
+private:
+    static constexpr unsigned ftz_daz = 0x8040; // MXCSR bits 15 (FTZ) and 6 (DAZ)
+    unsigned saved_;
+#endif
+};
 
 /// The primary rays of CONVENTIONS.md in float, computed from the double-precision camera.
 struct RayGen {
@@ -236,7 +253,8 @@ std::string EmbreeReference::description() const
            std::to_string(RTC_VERSION_PATCH) + " (threads=" + std::to_string(impl_->threads) + ")";
 }
 
-ReferenceResult EmbreeReference::render(const Camera& camera, int width, int height, EmbreeMode mode, int repeats)
+ReferenceResult EmbreeReference::render(const Camera& camera, int width, int height, EmbreeMode mode, int repeats,
+                                        double budget_ms)
 {
     if (width <= 0 || height <= 0) throw std::runtime_error("embree: image size must be positive");
     RayGen gen(camera, width, height);
@@ -256,6 +274,7 @@ ReferenceResult EmbreeReference::render(const Camera& camera, int width, int hei
     auto frame = [&] {
         std::atomic<int> next{0};
         auto worker = [&] {
+            DenormalsOff denormals_off;
             for (int t = next++; t < tiles; t = next++) {
                 int x0 = t % tiles_x * work_tile, y0 = t / tiles_x * work_tile;
                 if (mode == EmbreeMode::Single) trace_tile_single(scene, gen, x0, y0, out);
@@ -268,7 +287,7 @@ ReferenceResult EmbreeReference::render(const Camera& camera, int width, int hei
         for (auto& th : pool) th.join();
     };
     frame(); // warm-up: first touches of the BVH and the buffers
-    for (int k = 0; k < repeats; ++k) {
+    while (!enough_frames(result.frame_ms, repeats, budget_ms)) {
         auto t0 = std::chrono::steady_clock::now();
         frame();
         result.frame_ms.push_back(ms_since(t0));
@@ -299,7 +318,7 @@ const std::vector<double>& EmbreeReference::build_samples_ms() const
     return none;
 }
 std::string EmbreeReference::description() const { return "Embree (not built)"; }
-ReferenceResult EmbreeReference::render(const Camera&, int, int, EmbreeMode, int)
+ReferenceResult EmbreeReference::render(const Camera&, int, int, EmbreeMode, int, double)
 {
     throw std::runtime_error("embree: clvis was built without Embree 3 (Debian: libembree-dev)");
 }

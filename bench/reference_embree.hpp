@@ -40,8 +40,10 @@ public:
     std::string description() const;
 
     /// One untimed warm-up frame, then `repeats` timed frames (ray generation and tracing of
-    /// every pixel centre on `threads` std::threads). Throws std::runtime_error on failure.
-    ReferenceResult render(const Camera& camera, int width, int height, EmbreeMode mode, int repeats);
+    /// every pixel centre on `threads` std::threads), fewer past `budget_ms` (enough_frames).
+    /// Throws std::runtime_error on failure.
+    ReferenceResult render(const Camera& camera, int width, int height, EmbreeMode mode, int repeats,
+                           double budget_ms = 0);
 
 private:
     struct Impl;

@@ -195,7 +195,7 @@ GlReference::~GlReference() = default;
 
 std::string GlReference::description() const { return impl_->description; }
 
-ReferenceResult GlReference::render(const Camera& camera, int width, int height, int repeats)
+ReferenceResult GlReference::render(const Camera& camera, int width, int height, int repeats, double budget_ms)
 {
     if (width <= 0 || height <= 0) throw std::runtime_error("gl: image size must be positive");
     camera.validate();
@@ -262,7 +262,7 @@ ReferenceResult GlReference::render(const Camera& camera, int width, int height,
     result.height = height;
     frame(); // warm-up: the first draw compiles the shaders for the rasterizer
     check_gl("the warm-up frame");
-    for (int k = 0; k < repeats; ++k) {
+    while (!enough_frames(result.frame_ms, repeats, budget_ms)) {
         auto t0 = std::chrono::steady_clock::now();
         frame();
         result.frame_ms.push_back(ms_since(t0));
@@ -307,7 +307,7 @@ GlReference::GlReference(const Scene&, int)
 }
 GlReference::~GlReference() = default;
 std::string GlReference::description() const { return "OpenGL (not built)"; }
-ReferenceResult GlReference::render(const Camera&, int, int, int)
+ReferenceResult GlReference::render(const Camera&, int, int, int, double)
 {
     throw std::runtime_error("gl: clvis was built without EGL and OpenGL (Debian: libegl-dev, libopengl-dev)");
 }

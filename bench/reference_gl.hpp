@@ -31,9 +31,10 @@ public:
     std::string description() const;
 
     /// One untimed warm-up frame, then `repeats` timed frames (clear + draw + glFinish; the
-    /// read-back is not timed). Ids are flipped to row 0 on top; depth is the view depth
-    /// recovered from the depth buffer. Throws std::runtime_error on a GL error.
-    ReferenceResult render(const Camera& camera, int width, int height, int repeats);
+    /// read-back is not timed), fewer past `budget_ms` (enough_frames). Ids are flipped to row 0
+    /// on top; depth is the view depth recovered from the depth buffer. Throws
+    /// std::runtime_error on a GL error.
+    ReferenceResult render(const Camera& camera, int width, int height, int repeats, double budget_ms = 0);
 
 private:
     struct Impl;

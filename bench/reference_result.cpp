@@ -2,8 +2,16 @@
 #include "reference_result.hpp"
 
 #include <algorithm>
+#include <numeric>
 
 namespace clvis::bench {
+
+bool enough_frames(const std::vector<double>& frame_ms, int repeats, double budget_ms)
+{
+    if (int(frame_ms.size()) >= repeats) return true;
+    return budget_ms > 0 && int(frame_ms.size()) >= min_budget_frames &&
+           std::accumulate(frame_ms.begin(), frame_ms.end(), 0.0) >= budget_ms;
+}
 
 double median_of(std::vector<double> samples)
 {

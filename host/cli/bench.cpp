@@ -39,12 +39,20 @@ constexpr double closeup_fraction = 0.35;
 /// bounding sphere, so the framing rule 0.9 (dist - R) could be negative.
 constexpr double closeup_near_fraction = 0.05;
 /// Brute force (one ray against every triangle) only on small scenes, and only while
-/// triangles x pixels (ray-triangle tests per frame) stays under a budget.
+/// triangles x pixels (ray-triangle tests per frame) stays under a budget: it ran at about 25M
+/// tests/s here (PoCL, 2 busy cores), so 6e7 tests are a few seconds a frame. Small images of
+/// small meshes (the "brute" sweep) give it points of its own.
 constexpr std::size_t brute_max_triangles = 16384;
-constexpr double brute_max_tests_full = 2.5e9;
-constexpr double brute_max_tests_quick = 2.5e8;
+constexpr double brute_max_tests_full = 6e7;
+constexpr double brute_max_tests_quick = 2.5e7;
+/// Timed brute-force frames at most (each may take a second).
+constexpr int brute_repeat = 3;
 /// Scenes above this many triangles get one timed BVH build per builder (each takes seconds).
 constexpr std::size_t single_build_above = 1u << 20;
+/// Without --repeat, each renderer stops timing a point once its timed frames add up to this
+/// (after at least bench::min_budget_frames): the 4M-triangle points take seconds per frame.
+constexpr double frame_budget_ms_full = 3000;
+constexpr double frame_budget_ms_quick = 1500;
 /// Targets of issue #7 (clvis / reference, medians).
 constexpr double target_raster_over_llvmpipe = 0.5;
 constexpr double target_ray_over_embree1 = 1.0;
@@ -54,7 +62,7 @@ struct BenchArgs {
     bool quick = false;
     std::string out = "bench-out";
     DeviceOptions device;
-    int repeat = 0;      ///< 0: 10 timed frames, 5 with --quick
+    int repeat = 0;      ///< 0: up to 10 timed frames (5 with --quick) within a time budget
     int ref_threads = 2; ///< threads of the reference renderers (trace, raster and build)
     bool no_plot = false;
 };
@@ -106,6 +114,7 @@ struct Point {
     std::size_t triangles = 0;
     int width = 0, height = 0;
     std::string camera_flags;
+    double coverage = -1; ///< fraction of pixels with a triangle (first buffer available), -1 if none
     std::vector<Run> runs;
     std::vector<Comparison> comparisons;
 
@@ -271,8 +280,10 @@ std::vector<Workload> plan(bool quick)
         Workload m{fs::path(name).stem().string(), mesh_file(dir, name), {}};
         m.views.push_back({false, 1920, 1080, {"mesh"}});
         if (!quick) m.views.push_back({true, 1920, 1080, {"mesh"}});
+        if (name == "suzanne.obj") m.views.push_back({false, quick ? 192 : 256, quick ? 108 : 144, {"brute"}});
         w.push_back(m);
     }
+    if (!quick) w[0].views.push_back({false, 256, 144, {"brute"}}); // the 1k sphere
     return w;
 }
 
@@ -290,13 +301,16 @@ Camera closeup_of(const Camera& framing, const Bounds& bounds)
 struct Context {
     const BenchArgs& args;
     int repeat;
+    double budget_ms; ///< 0 with an explicit --repeat: exactly `repeat` frames
     Device device;
     std::string device_error;
     std::string embree_description, gl_description;
 };
 
-/// Times one clvis path: one untimed warm-up, then `repeat` frames; never throws.
-Run run_clvis(Renderer& renderer, const Camera& camera, int width, int height, Path path, int repeat)
+/// Times one clvis path: one untimed warm-up, then `repeat` frames (fewer past `budget_ms`);
+/// never throws.
+Run run_clvis(Renderer& renderer, const Camera& camera, int width, int height, Path path, int repeat,
+              double budget_ms)
 {
     Run run;
     run.renderer = to_string(path);
@@ -305,7 +319,7 @@ Run run_clvis(Renderer& renderer, const Camera& camera, int width, int height, P
         VisibilityBuffer target(renderer.device(), width, height);
         renderer.render(camera, path, target); // warm-up: first launches compile per work-group size
         double best = INFINITY;
-        for (int k = 0; k < repeat; ++k) {
+        while (!bench::enough_frames(run.frame_ms, repeat, budget_ms)) {
             renderer.render(camera, path, target);
             const FrameTiming& t = renderer.last_frame();
             run.frame_ms.push_back(t.frame_ms);
@@ -488,7 +502,8 @@ void run_workload(Context& ctx, const Workload& w, std::vector<Point>& points, P
             paths.push_back(Path::Brute);
         for (Path path : paths) {
             progress.show(label + ": clvis " + to_string(path));
-            Run run = renderer ? run_clvis(*renderer, camera, v.width, v.height, path, path == Path::Brute ? std::min(repeat, 3) : repeat)
+            int frames = path == Path::Brute ? std::min(repeat, brute_repeat) : repeat;
+            Run run = renderer ? run_clvis(*renderer, camera, v.width, v.height, path, frames, ctx.budget_ms)
                                : failed_run(to_string(path), false, renderer_error);
             if (path == Path::Ray && run.error.empty()) {
                 run.build_ms = clvis_builds;
@@ -505,7 +520,7 @@ void run_workload(Context& ctx, const Workload& w, std::vector<Point>& points, P
                 continue;
             }
             try {
-                p.runs.push_back(from_reference(embree->render(camera, v.width, v.height, mode, repeat)));
+                p.runs.push_back(from_reference(embree->render(camera, v.width, v.height, mode, repeat, ctx.budget_ms)));
             } catch (const std::exception& e) {
                 p.runs.push_back(failed_run(name, true, e.what()));
             }
@@ -515,13 +530,19 @@ void run_workload(Context& ctx, const Workload& w, std::vector<Point>& points, P
             p.runs.push_back(failed_run("llvmpipe", true, gl_error));
         } else {
             try {
-                p.runs.push_back(from_reference(gl->render(camera, v.width, v.height, repeat)));
+                p.runs.push_back(from_reference(gl->render(camera, v.width, v.height, repeat, ctx.budget_ms)));
             } catch (const std::exception& e) {
                 p.runs.push_back(failed_run("llvmpipe", true, e.what()));
             }
         }
         progress.show(label + ": referee");
         compare_runs(p, *scene, camera);
+        for (const auto& r : p.runs)
+            if (p.coverage < 0 && !r.vis.ids.empty()) {
+                auto covered = std::count_if(r.vis.ids.begin(), r.vis.ids.end(),
+                                             [](std::uint32_t id) { return id != background_id; });
+                p.coverage = double(covered) / double(r.vis.ids.size());
+            }
         for (auto& r : p.runs) r.vis = HostVisibility{};
         points.push_back(std::move(p));
         progress.advance();
@@ -566,6 +587,7 @@ nlohmann::json point_json(const Point& p)
     nlohmann::json j{{"mesh", p.mesh},   {"camera", p.camera},   {"sweeps", p.sweeps},
                      {"triangles", p.triangles}, {"width", p.width}, {"height", p.height},
                      {"camera_flags", p.camera_flags}};
+    j["coverage"] = p.coverage >= 0 ? nlohmann::json(p.coverage) : nlohmann::json(nullptr);
     j["runs"] = nlohmann::json::array();
     for (const auto& r : p.runs) {
         nlohmann::json rj{{"renderer", r.renderer}, {"reference", r.reference}};
@@ -675,26 +697,30 @@ void print_table(const std::vector<Point>& points)
                 "(raster/llvmpipe <= %.1f, ray/rtcIntersect1 <= %.1f, BVH build/Embree build <= %.1f).\n"
                 "Referee columns: pixels with an unacceptable answer (e) / explained mismatches (x).\n",
                 target_raster_over_llvmpipe, target_ray_over_embree1, target_build_over_embree);
-    std::printf("%-18s %-7s %8s %9s | %8s %8s %6s | %8s %8s %6s %8s %6s | %8s %8s %6s | %-10s %-10s %-10s %-10s\n",
-                "mesh", "camera", "tris", "size", "raster", "llvmpipe", "r/gl", "ray", "e-1", "ray/e1", "e-16",
-                "ray/16", "bvh", "e-build", "b/e", "raster|ray", "raster|gl", "ray|e1", "ray|e16");
+    std::printf("%-18s %-7s %8s %9s %5s | %8s %8s %6s | %8s %8s %6s %8s %6s | %8s %8s %6s | %8s | %-10s %-10s %-10s "
+                "%-10s %-10s\n",
+                "mesh", "camera", "tris", "size", "cover", "raster", "llvmpipe", "r/gl", "ray", "e-1", "ray/e1", "e-16",
+                "ray/16", "bvh", "e-build", "b/e", "brute", "raster|ray", "raster|gl", "ray|e1", "ray|e16", "brute|ray");
     for (const auto& p : points) {
         const Run* ray = p.find("ray");
         const Run* em = p.find("embree-intersect1");
         std::string size = std::to_string(p.width) + "x" + std::to_string(p.height);
         std::string bvh = ray && !ray->build_ms.empty() ? fmt("%.1f", summarize(ray->build_ms).median) : "-";
         std::string eb = em && !em->build_ms.empty() ? fmt("%.1f", summarize(em->build_ms).median) : "-";
-        std::printf("%-18s %-7s %8zu %9s | %8s %8s %6s | %8s %8s %6s %8s %6s | %8s %8s %6s | %-10s %-10s %-10s %-10s\n",
-                    p.mesh.c_str(), p.camera.c_str(), p.triangles, size.c_str(), ms_cell(p, "raster").c_str(),
+        std::string cover = p.coverage >= 0 ? fmt("%.0f%%", 100 * p.coverage) : "-";
+        std::string brute = p.find("brute") ? ms_cell(p, "brute") : "-";
+        std::printf("%-18s %-7s %8zu %9s %5s | %8s %8s %6s | %8s %8s %6s %8s %6s | %8s %8s %6s | %8s | %-10s %-10s %-10s "
+                    "%-10s %-10s\n",
+                    p.mesh.c_str(), p.camera.c_str(), p.triangles, size.c_str(), cover.c_str(), ms_cell(p, "raster").c_str(),
                     ms_cell(p, "llvmpipe").c_str(),
                     cell(ratio(p, "raster", "llvmpipe"), "%.2f", target_raster_over_llvmpipe).c_str(),
                     ms_cell(p, "ray").c_str(), ms_cell(p, "embree-intersect1").c_str(),
                     cell(ratio(p, "ray", "embree-intersect1"), "%.2f", target_ray_over_embree1).c_str(),
                     ms_cell(p, "embree-intersect16").c_str(), cell(ratio(p, "ray", "embree-intersect16"), "%.2f").c_str(),
                     bvh.c_str(), eb.c_str(), cell(build_ratio(p), "%.2f", target_build_over_embree).c_str(),
-                    verdict_cell(p, "raster", "ray").c_str(), verdict_cell(p, "raster", "llvmpipe").c_str(),
+                    brute.c_str(), verdict_cell(p, "raster", "ray").c_str(), verdict_cell(p, "raster", "llvmpipe").c_str(),
                     verdict_cell(p, "ray", "embree-intersect1").c_str(),
-                    verdict_cell(p, "ray", "embree-intersect16").c_str());
+                    verdict_cell(p, "ray", "embree-intersect16").c_str(), verdict_cell(p, "brute", "ray").c_str());
     }
     // Failures, once per renderer and message.
     std::vector<std::string> seen;
@@ -746,7 +772,9 @@ void bench_command(const BenchArgs& args)
     fs::create_directories(out_dir, ec);
     if (ec) throw Error(Error::Kind::Io, "--out " + args.out + ": " + ec.message());
 
-    Context ctx{args, args.repeat > 0 ? args.repeat : args.quick ? 5 : 10, Device{}, {}, {}, {}};
+    Context ctx{args,     args.repeat > 0 ? args.repeat : args.quick ? 5 : 10,
+                args.repeat > 0 ? 0 : args.quick ? frame_budget_ms_quick : frame_budget_ms_full,
+                Device{}, {}, {}, {}};
     try {
         ctx.device = args.device.open();
     } catch (const std::exception& e) {
@@ -780,7 +808,9 @@ void bench_command(const BenchArgs& args)
     j["parameters"] = {{"quick", args.quick},
                        {"repeat", ctx.repeat},
                        {"warm_up_frames", 1},
-                       {"brute_repeat", std::min(ctx.repeat, 3)},
+                       {"frame_budget_ms", ctx.budget_ms},
+                       {"min_budget_frames", bench::min_budget_frames},
+                       {"brute_repeat", std::min(ctx.repeat, brute_repeat)},
                        {"brute_max_triangles", brute_max_triangles},
                        {"brute_max_tests", args.quick ? brute_max_tests_quick : brute_max_tests_full},
                        {"builds", args.quick ? 2 : 3},
@@ -821,7 +851,9 @@ void add_bench_command(CLI::App& app)
     cmd->add_flag("--quick", args->quick, "a sweep of a few small points (under a minute on 2 cores)");
     cmd->add_option("--out", args->out, "output folder (created)");
     args->device.add_to(*cmd);
-    cmd->add_option("--repeat", args->repeat, "timed frames per point after one warm-up (default 10, quick 5)")
+    cmd->add_option("--repeat", args->repeat,
+                    "exactly N timed frames per renderer and point after one warm-up (default: up to 10, "
+                    "quick 5, stopping after 3 once they add up to 3 s, quick 1.5 s)")
         ->check(CLI::Range(1, 100000));
     cmd->add_option("--ref-threads", args->ref_threads, "threads of the reference renderers (default 2)")
         ->check(CLI::Range(1, 1024));
