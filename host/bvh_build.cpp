@@ -415,7 +415,8 @@ Bvh build_bvh(const float* positions, const std::uint32_t* indices, std::size_t 
 
 void refit_bvh(Bvh& bvh, const float* positions, const std::uint32_t* indices)
 {
-    for (clvis_bvh_tri& t : bvh.tris) t = make_tri(positions, indices, t.id);
+    parallel_for(bvh.tris.size(), std::max(1u, std::thread::hardware_concurrency()),
+                 [&](std::size_t i) { bvh.tris[i] = make_tri(positions, indices, bvh.tris[i].id); });
     // Depth-first order puts children after their parent: one backward pass sees children first.
     for (std::size_t i = bvh.nodes.size(); i-- > 0;) {
         clvis_bvh_node& n = bvh.nodes[i];
@@ -476,6 +477,7 @@ int collapse(const Bvh& bvh, std::uint32_t n, Bvh4& out)
     }
     std::size_t self = out.nodes.size();
     out.nodes.emplace_back();
+    out.source.insert(out.source.end(), {~0u, ~0u, ~0u, ~0u});
     int depth = 1;
     for (int k = 0; k < 4; ++k) {
         clvis_bvh4_node& w = out.nodes[self];
@@ -487,6 +489,7 @@ int collapse(const Bvh& bvh, std::uint32_t n, Bvh4& out)
             continue;
         }
         const clvis_bvh_node& c = bvh.nodes[kids[k]];
+        out.source[self * 4 + std::size_t(k)] = kids[k];
         w.lo_x[k] = c.lo_x; w.lo_y[k] = c.lo_y; w.lo_z[k] = c.lo_z;
         w.hi_x[k] = c.hi_x; w.hi_y[k] = c.hi_y; w.hi_z[k] = c.hi_z;
         w.count[k] = c.count;
@@ -509,6 +512,7 @@ Bvh4 collapse_bvh4(const Bvh& bvh)
     Bvh4 out;
     if (bvh.nodes.empty()) return out;
     out.nodes.reserve(bvh.nodes.size() / 3 + 1);
+    out.source.reserve(out.nodes.capacity() * 4);
     const clvis_bvh_node& root = bvh.nodes[0];
     if (root.count > 0) { // a single leaf: one 4-wide node with one child
         clvis_bvh4_node w{};
@@ -521,11 +525,26 @@ Bvh4 collapse_bvh4(const Bvh& bvh)
         w.child[0] = root.first;
         w.count[0] = root.count;
         out.nodes.push_back(w);
+        out.source = {0, ~0u, ~0u, ~0u};
         out.depth = 1;
         return out;
     }
     out.depth = collapse(bvh, 0, out);
     return out;
+}
+
+void refit_bvh4(Bvh4& wide, const Bvh& bvh)
+{
+    for (std::size_t i = 0; i < wide.nodes.size(); ++i) {
+        clvis_bvh4_node& w = wide.nodes[i];
+        for (int k = 0; k < 4; ++k) {
+            std::uint32_t src = wide.source[i * 4 + std::size_t(k)];
+            if (src == ~0u) continue;
+            const clvis_bvh_node& c = bvh.nodes[src];
+            w.lo_x[k] = c.lo_x; w.lo_y[k] = c.lo_y; w.lo_z[k] = c.lo_z;
+            w.hi_x[k] = c.hi_x; w.hi_y[k] = c.hi_y; w.hi_z[k] = c.hi_z;
+        }
+    }
 }
 
 double bvh_sah_cost(const std::vector<clvis_bvh_node>& nodes)

@@ -39,6 +39,7 @@ struct Bvh {
 /// The binary tree collapsed to 4-wide nodes for the kernel, depth-first from the root (node 0).
 struct Bvh4 {
     std::vector<clvis_bvh4_node> nodes; ///< empty for a scene without triangles
+    std::vector<std::uint32_t> source;  ///< per slot (4 per node): the binary node it copies, or ~0u
     int depth = 0;                      ///< 4-wide nodes on the longest root-to-leaf path
 };
 
@@ -46,6 +47,9 @@ struct Bvh4 {
 /// interior ones until it holds four (Wald et al., "Getting rid of packets", 2008). The leaves and
 /// triangle slots stay those of `bvh`.
 Bvh4 collapse_bvh4(const Bvh& bvh);
+
+/// Copies the boxes of a refitted `bvh` into the 4-wide nodes collapsed from it (same grouping).
+void refit_bvh4(Bvh4& wide, const Bvh& bvh);
 
 /// Builds the BVH of `triangle_count` triangles given by `indices` (3 per triangle, id order)
 /// into `positions` (3 floats per vertex). Same input, same bits, whatever the threads do.

@@ -143,7 +143,7 @@ void RayPipeline::update(const Scene& scene, cl::CommandQueue& queue)
     }
     auto t0 = std::chrono::steady_clock::now();
     refit_bvh(m.bvh, scene.world_positions().data(), scene.world_indices().data());
-    m.wide = collapse_bvh4(m.bvh);
+    refit_bvh4(m.wide, m.bvh);
     m.fill_stats(ms_since(t0), true);
     m.upload(queue);
 }

@@ -328,13 +328,23 @@ TEST_CASE("a refit follows moved vertices with the same topology", "[bvh]")
 {
     Mesh mesh = from(make_uv_sphere(3000));
     Bvh bvh = build(mesh);
+    Bvh4 wide = collapse_bvh4(bvh);
     Bvh before = bvh;
+    Bvh4 wide_before = wide;
     for (std::size_t i = 0; i < mesh.positions.size(); i += 3) {
         mesh.positions[i] = mesh.positions[i] * 2.0f + 3.0f;                  // stretch and slide in x
         mesh.positions[i + 2] = mesh.positions[i + 2] * std::fabs(mesh.positions[i + 1]); // pinch in z
     }
     refit_bvh(bvh, mesh.positions.data(), mesh.indices.data());
+    refit_bvh4(wide, bvh);
     CHECK(check_invariants(bvh, mesh, 4) == 0);
+    CHECK(check_wide(wide, bvh) == 0);
+    REQUIRE(wide.nodes.size() == wide_before.nodes.size());
+    for (std::size_t i = 0; i < wide.nodes.size(); ++i)
+        for (int k = 0; k < 4; ++k) {
+            CHECK(wide.nodes[i].child[k] == wide_before.nodes[i].child[k]);
+            CHECK(wide.nodes[i].count[k] == wide_before.nodes[i].count[k]);
+        }
     REQUIRE(bvh.nodes.size() == before.nodes.size());
     for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
         CHECK(bvh.nodes[i].count == before.nodes[i].count);
