@@ -8,9 +8,6 @@
 #include "shared/types.h"
 #include "shared/visibility.h"
 
-#ifndef __OPENCL_C_VERSION__
-#include <cmath>
-#endif
 
 /* Sub-pixel precision: raster coordinates are snapped to 1 / 2^16 px. */
 #define CLVIS_SUBPIXEL_BITS 16
@@ -126,14 +123,20 @@ static inline clvis_clip_vertex clvis_clip_cut(clvis_clip_vertex a, float da, cl
     return p;
 }
 
+/* Rounds to the nearest integer, ties to even, with plain arithmetic (vectorizable, unlike PoCL's
+   rint and convert_long_rte): adding and removing 2^23 leaves no fraction bits, and floats of
+   magnitude 2^23 or more are integers already. Host and device give the same bits. */
+static inline float clvis_round_even(float v)
+{
+    float big = v < 0.0f ? -8388608.0f : 8388608.0f;
+    float r = (v + big) - big;
+    return (v < 8388608.0f && v > -8388608.0f) ? r : v;
+}
+
 /* Snaps a raster coordinate to fixed point, rounding to nearest even. */
 static inline clvis_i64 clvis_snap(float v)
 {
-#ifdef __OPENCL_C_VERSION__
-    return (clvis_i64)rint(v * (float)CLVIS_SUBPIXEL_ONE);
-#else
-    return (clvis_i64)std::nearbyint(v * (float)CLVIS_SUBPIXEL_ONE);
-#endif
+    return (clvis_i64)clvis_round_even(v * (float)CLVIS_SUBPIXEL_ONE);
 }
 
 /* floor(v / 2^CLVIS_SUBPIXEL_BITS) without relying on the shift of negative numbers. */
