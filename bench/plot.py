@@ -97,14 +97,19 @@ def time_vs_triangles(data, out):
         return
     fig, ax = plt.subplots(figsize=(8, 5.5))
     plot_series(ax, spheres, lambda p: p["triangles"])
+    # Grid and soup: the renderer's colour, one marker per mesh family, one legend entry per family.
     markers = {"grid": "s", "soup": "^"}
     for fam, marker in markers.items():
         others = [p for p in points if family(p) == fam]
-        for name, label, colour, _ in RENDERERS:
+        shown = False
+        for name, _, colour, _ in RENDERERS:
             xs = [p["triangles"] for p in others if frame_stats(p, name)]
             ys = [frame_stats(p, name)[0] for p in others if frame_stats(p, name)]
             if xs:
-                ax.scatter(xs, ys, color=colour, marker=marker, s=30, label="%s (%s)" % (label, fam))
+                ax.scatter(xs, ys, color=colour, marker=marker, s=30, alpha=0.8)
+                shown = True
+        if shown:
+            ax.scatter([], [], color="black", marker=marker, s=30, label="%s mesh (renderer's colour)" % fam)
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("triangles (UV sphere; squares: grid, triangles: soup)")
