@@ -6,10 +6,14 @@
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
 #include "shared/raster.h"
 
-/* Triangles whose pixel bounding box holds at most this many pixel centres are rasterized here,
-   the rest are binned. */
-#ifndef CLVIS_RASTER_SMALL
-#define CLVIS_RASTER_SMALL 16
+/* Triangles whose pixel bounding box holds at most CLVIS_RASTER_SCALAR pixel centres are
+   rasterized here sample by sample; those whose box is at most 8 pixels wide (one vector span)
+   and CLVIS_RASTER_SMALL_ROWS rows tall, here row by row; the rest are binned. */
+#ifndef CLVIS_RASTER_SCALAR
+#define CLVIS_RASTER_SCALAR 4
+#endif
+#ifndef CLVIS_RASTER_SMALL_ROWS
+#define CLVIS_RASTER_SMALL_ROWS 8
 #endif
 
 /* Worst case of Sutherland-Hodgman: a polygon of n vertices, I of them inside, comes out with
@@ -40,12 +44,28 @@ static void emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_ra
 {
     clvis_raster_tri t;
     if (!clvis_raster_setup(a, b, c, id, out.cam.width, out.cam.height, out.cull, &t)) return;
-    if ((t.x1 - t.x0 + 1) * (t.y1 - t.y0 + 1) <= CLVIS_RASTER_SMALL) {
+    if ((t.x1 - t.x0 + 1) * (t.y1 - t.y0 + 1) <= CLVIS_RASTER_SCALAR) {
         for (int j = t.y0; j <= t.y1; ++j) {
             for (int i = t.x0; i <= t.x1; ++i) {
                 ulong key = clvis_raster_sample(&t, i, j, out.cam.ortho, out.cam.near_d, out.cam.far_d);
                 if (key != CLVIS_BACKGROUND_KEY) atom_min(&out.keys[(size_t)j * out.cam.width + i], key);
             }
+        }
+        return;
+    }
+    if (t.x1 - t.x0 < 8 && t.y1 - t.y0 < CLVIS_RASTER_SMALL_ROWS) {
+        long r0 = t.e0[0] + (long)t.x0 * t.ex[0] + (long)t.y0 * t.ey[0];
+        long r1 = t.e0[1] + (long)t.x0 * t.ex[1] + (long)t.y0 * t.ey[1];
+        long r2 = t.e0[2] + (long)t.x0 * t.ex[2] + (long)t.y0 * t.ey[2];
+        for (int j = t.y0; j <= t.y1; ++j, r0 += t.ey[0], r1 += t.ey[1], r2 += t.ey[2]) {
+            ulong8 key = clvis_raster_span8(r0, r1, r2, t.ex[0], t.ex[1], t.ex[2], t.wc, t.w[0], t.w[1], t.w[2], t.id,
+                                            t.x1 - t.x0 + 1, out.cam.ortho, out.cam.near_d, out.cam.far_d);
+            if (all(key == (ulong8)(CLVIS_BACKGROUND_KEY))) continue;
+            ulong lane[8];
+            vstore8(key, 0, lane);
+            volatile __global ulong* row = out.keys + (size_t)j * (size_t)out.cam.width + (size_t)t.x0;
+            for (int l = 0; l < 8; ++l)
+                if (lane[l] != CLVIS_BACKGROUND_KEY) atom_min(&row[l], lane[l]);
         }
         return;
     }

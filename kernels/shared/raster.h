@@ -264,11 +264,33 @@ static inline clvis_u64 clvis_raster_sample(const clvis_raster_tri* t, int i, in
     clvis_i64 e0 = t->e0[0] + (clvis_i64)i * t->ex[0] + (clvis_i64)j * t->ey[0];
     clvis_i64 e1 = t->e0[1] + (clvis_i64)i * t->ex[1] + (clvis_i64)j * t->ey[1];
     clvis_i64 e2 = t->e0[2] + (clvis_i64)i * t->ex[2] + (clvis_i64)j * t->ey[2];
-    /* Straight-line code (selects, no branches): raster_fine.cl vectorizes it across pixels. */
+    if ((e0 | e1 | e2) < 0) return CLVIS_BACKGROUND_KEY; /* before the division: most samples miss */
     float d = clvis_raster_depth(t->wc, t->w[0], t->w[1], t->w[2], e0, e1, e2, ortho);
-    int hit = ((e0 | e1 | e2) >= 0) & (d >= near_d) & (d <= far_d);
-    return hit ? clvis_make_key(d, t->id) : CLVIS_BACKGROUND_KEY;
+    if (!(d >= near_d && d <= far_d)) return CLVIS_BACKGROUND_KEY;
+    return clvis_make_key(d, t->id);
 }
+
+#ifdef __OPENCL_C_VERSION__
+/* The vector form of clvis_raster_sample for the 8 pixels (i, j) .. (i + 7, j) whose edge values
+   at (i, j) are r0, r1, r2: the same operations in the same order, so the same bits. Lanes that
+   are not covered, out of [near, far], or at or past `count` hold the background key, so a min
+   over spans needs no mask. */
+static inline ulong8 clvis_raster_span8(long r0, long r1, long r2, long ex0, long ex1, long ex2, float wc, float w0,
+                                        float w1, float w2, uint id, int count, int ortho, float near_d, float far_d)
+{
+    const long8 lanes = (long8)(0, 1, 2, 3, 4, 5, 6, 7);
+    long8 e0 = (long8)(r0) + lanes * ex0;
+    long8 e1 = (long8)(r1) + lanes * ex1;
+    long8 e2 = (long8)(r2) + lanes * ex2;
+    long8 inside = ((e0 | e1 | e2) >= 0) & (lanes < (long8)(count));
+    if (!any(inside)) return (ulong8)(CLVIS_BACKGROUND_KEY);
+    float8 v = (float8)(wc) + convert_float8(e0) * w0 + convert_float8(e1) * w1 + convert_float8(e2) * w2;
+    float8 d = ortho ? v : 1.0f / v;
+    long8 hit = inside & convert_long8((d >= near_d) & (d <= far_d));
+    ulong8 key = (convert_ulong8(as_uint8(d)) << 32) | (ulong8)(id);
+    return select((ulong8)(CLVIS_BACKGROUND_KEY), key, hit);
+}
+#endif
 
 /* Whether t may cover a centre of the pixels [i0, i1] x [j0, j1]: each edge value is linear, so
    its largest value over those centres is at the corner its gradient points to. Exact. */
