@@ -834,9 +834,10 @@ void bench_command(const BenchArgs& args)
     write_csv(out_dir / "bench.csv", points);
     print_table(points);
     if (!args.no_plot) plot(json_file, out_dir);
-    std::printf("\nclvis bench: %zu points in %.1f s on %s; wrote %s, %s and plots in %s\n", points.size(),
+    std::printf("\nclvis bench: %zu points in %.1f s on %s; wrote %s and %s%s\n", points.size(),
                 ms_since(t_start) / 1000, ctx.device ? ctx.device.info().name.c_str() : "no device",
-                json_file.string().c_str(), (out_dir / "bench.csv").string().c_str(), out_dir.string().c_str());
+                json_file.string().c_str(), (out_dir / "bench.csv").string().c_str(),
+                args.no_plot ? "" : " (plots beside them)");
 }
 
 } // namespace
