@@ -150,6 +150,9 @@ TEST_CASE("the BVH path gives the brute path's keys", "[device][ray]")
         Camera ortho = Camera::framing(scene.bounds(), Projection::Orthographic);
         Bounds b = scene.bounds();
         Camera close = look(b.center() + Vec3{0.2, 0.3, 0.6} * length(b.extent()), b.center(), 60, 1e-3, 100);
+        // Looking along a diagonal with a wide view: packets whose rays change their largest
+        // axis (the shear's permutation) and the signs of their components.
+        Camera wide = look(b.center() + Vec3{0.7, 0.7, 0.05} * length(b.extent()), b.center(), 120, 1e-3, 100);
         for (int leaf : {1, 4, 16}) {
             RenderOptions o;
             o.bvh.max_leaf_size = leaf;
@@ -157,6 +160,7 @@ TEST_CASE("the BVH path gives the brute path's keys", "[device][ray]")
             check_paths_agree(r, framing, 67, 45, name + ", framing, leaf " + std::to_string(leaf));
             check_paths_agree(r, ortho, 40, 33, name + ", orthographic, leaf " + std::to_string(leaf));
             check_paths_agree(r, close, 48, 37, name + ", close-up, leaf " + std::to_string(leaf));
+            check_paths_agree(r, wide, 53, 41, name + ", wide diagonal, leaf " + std::to_string(leaf));
         }
     }
 }
