@@ -25,6 +25,8 @@ namespace {
 constexpr int default_tile_log2 = 4;
 /// Work-items per group of the one-dimensional kernels (setup, bin count and fill), at most.
 constexpr std::size_t linear_group = 64;
+/// Work-items per group edge of raster_fine.cl (each owns a square of pixels), at most.
+constexpr std::size_t fine_group_edge = 4;
 /// Work-items of the single work-group of raster_bin_scan, at most.
 constexpr std::size_t scan_group = 256;
 /// First capacities of the growable buffers (elements); they double or jump to what a frame needs.
@@ -69,8 +71,8 @@ struct RasterPipeline::Impl {
         }
     }
 
-    /// Pixels per work-item of raster_fine.cl (CLVIS_FINE_SPAN): 8, or 4 on 4-pixel tiles.
-    std::size_t fine_span() const { return tile_log2 >= 3 ? 8 : 4; }
+    /// Edge in pixels of the square a work-item of raster_fine.cl owns (CLVIS_FINE_SUB = 16).
+    std::size_t fine_square() const { return std::min<std::size_t>(std::size_t(1) << tile_log2, 16); }
 
     std::size_t granted(const cl::Kernel& k) const
     {
@@ -84,12 +86,12 @@ struct RasterPipeline::Impl {
         setup_group = std::min(linear_group, floor_pow2(granted(setup)));
         bin_group = std::min({linear_group, floor_pow2(granted(bin_count)), floor_pow2(granted(bin_fill))});
         scan_items = std::min(scan_group, floor_pow2(granted(bin_scan)));
-        // A group covers a band of one tile (a work-item a span of a row): its width and height
-        // divide the tile's edge.
+        // raster_fine.cl: a work-item per square of fine_square() pixels; no barriers, so any
+        // group the kernel grants will do.
         auto item_sizes = device.device.getInfo<CL_DEVICE_MAX_WORK_ITEM_SIZES>();
-        std::size_t tile = std::size_t(1) << tile_log2, max_group = floor_pow2(granted(fine));
-        std::size_t gx = std::min({tile / fine_span(), max_group, floor_pow2(item_sizes.at(0))});
-        std::size_t gy = std::min({tile, max_group / gx, floor_pow2(item_sizes.at(1))});
+        std::size_t max_group = floor_pow2(granted(fine));
+        std::size_t gx = std::min({fine_group_edge, max_group, floor_pow2(item_sizes.at(0))});
+        std::size_t gy = std::min({fine_group_edge, max_group / gx, floor_pow2(item_sizes.at(1))});
         fine_group = cl::NDRange(gx, gy);
     }
 
@@ -224,7 +226,9 @@ struct RasterPipeline::Impl {
         fine.setArg(4, cl_int(tiles_x));
         fine.setArg(5, sizeof frame.gpu_camera, &frame.gpu_camera);
         fine.setArg(6, frame.keys);
-        cl::NDRange fine_global((std::size_t(tiles_x) << tile_log2) / fine_span(), std::size_t(tiles_y) << tile_log2);
+        std::size_t squares_x = (std::size_t(frame.width) + fine_square() - 1) / fine_square();
+        std::size_t squares_y = (std::size_t(frame.height) + fine_square() - 1) / fine_square();
+        cl::NDRange fine_global(round_up(squares_x, fine_group[0]), round_up(squares_y, fine_group[1]));
         frame.queue.enqueueNDRangeKernel(fine, cl::NullRange, fine_global, fine_group, nullptr, &drawn);
         frame.stages->add("raster", drawn);
     }
@@ -249,8 +253,7 @@ RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& option
         m.bin_count = cl::Kernel(bin, "raster_bin_count");
         m.bin_scan = cl::Kernel(bin, "raster_bin_scan");
         m.bin_fill = cl::Kernel(bin, "raster_bin_fill");
-        m.fine = cl::Kernel(device.program("raster_fine", "-DCLVIS_FINE_SPAN=" + std::to_string(m.fine_span())),
-                            "raster_fine");
+        m.fine = cl::Kernel(device.program("raster_fine"), "raster_fine");
         m.pick_groups();
         m.counters = cl::Buffer(device.context, CL_MEM_READ_WRITE, 2 * sizeof(cl_ulong));
         m.reserve(m.tris, m.tri_capacity, first_tri_capacity, sizeof(clvis_raster_tri), first_tri_capacity,
