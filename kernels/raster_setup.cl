@@ -9,12 +9,8 @@
 /* Triangles whose pixel bounding box holds at most CLVIS_RASTER_SCALAR pixel centres are
    rasterized here sample by sample; those whose box is at most 8 pixels wide (one vector span)
    and CLVIS_RASTER_SMALL_ROWS rows tall, here row by row; the rest are binned. */
-#ifndef CLVIS_RASTER_SCALAR
-#define CLVIS_RASTER_SCALAR 4
-#endif
-#ifndef CLVIS_RASTER_SMALL_ROWS
-#define CLVIS_RASTER_SMALL_ROWS 8
-#endif
+#define CLVIS_RASTER_SCALAR 4     /* pixel centres */
+#define CLVIS_RASTER_SMALL_ROWS 8 /* rows */
 
 /* Worst case of Sutherland-Hodgman: a polygon of n vertices, I of them inside, comes out with
    I + (sign changes) <= I + 2 min(I, n - I) <= 1.5 n vertices. Exact clipping keeps a triangle

@@ -329,6 +329,19 @@ TEST_CASE("the top-left rule gives every sample of a split quad to exactly one h
     CHECK(on_shared_edge > 100);
 }
 
+TEST_CASE("snapping rounds to the nearest fixed-point step, ties to even", "[raster]")
+{
+    std::mt19937 rng(13);
+    std::uniform_real_distribution<float> u(-9000.0f, 17000.0f);
+    std::vector<float> values = {0.0f, -0.0f, 0.5f / 65536, 1.5f / 65536, -2.5f / 65536, 127.99999f, -8000.0f};
+    for (int i = 0; i < 100000; ++i) values.push_back(u(rng));
+    for (int i = 0; i < 1000; ++i) values.push_back(float(int(u(rng) * 2)) / 131072.0f); // exact half steps
+    for (float v : values) {
+        INFO("v = " << v);
+        CHECK(clvis_snap(v) == clvis_i64(std::nearbyint(double(v) * 65536.0)));
+    }
+}
+
 TEST_CASE("a clip cut does not depend on the direction the edge is walked", "[raster]")
 {
     std::mt19937 rng(3);
