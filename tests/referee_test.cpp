@@ -207,7 +207,7 @@ TEST_CASE("a triangle crossing the near plane is judged by its visible part", "[
     CHECK(outs > 100);
 }
 
-TEST_CASE("orthographic cameras: edges, depth, and the plane's depth along the ray", "[referee]")
+TEST_CASE("orthographic cameras judge edges and the plane's depth along the ray", "[referee]")
 {
     // The shared edge x = 4.5 runs through the centres of column 4.
     Scene s = scene_of({4.5f, -20, 2, 4.5f, 20, 2, -20, 0, 2,   // left, depth 8
@@ -226,7 +226,7 @@ TEST_CASE("orthographic cameras: edges, depth, and the plane's depth along the r
     CHECK(ref.judge(2, 3, 1).edge_distance == Approx(2.0).epsilon(1e-9));
 }
 
-TEST_CASE("a zero-area triangle is never in: ambiguous on its segment, out elsewhere", "[referee]")
+TEST_CASE("a zero-area triangle is never in, ambiguous on its segment, out elsewhere", "[referee]")
 {
     // Collinear through pixel centre (3.5, 4.5) in the pixel-unit orthographic frame (y = 8 - 4.5).
     Scene s = scene_of({1.5f, 3.5f, 0, 3.5f, 3.5f, 0, 6.5f, 3.5f, 0});
@@ -240,7 +240,7 @@ TEST_CASE("a zero-area triangle is never in: ambiguous on its segment, out elsew
     CHECK(ref.reference(3, 4) == background_id);
 }
 
-TEST_CASE("a sample beyond a sliver's sharp tip is out, though within EPS of both edge lines", "[referee]")
+TEST_CASE("a sample beyond a sliver's tip is out, though within EPS of both edge lines", "[referee]")
 {
     // Tip at raster (3.0, 4.5); the sample (3.5, 4.5) lies on the sliver's axis 0.5 px beyond it.
     Scene s = scene_of({-100, 3.5001f, 0, 3, 3.5f, 0, -100, 3.4999f, 0});
@@ -311,7 +311,7 @@ TEST_CASE("compare counts equal, explained and erroneous pixels of hand-made buf
     CHECK(ref.judge(0, 0, 2).error == AnswerError::InvalidId);
 }
 
-TEST_CASE("reference() matches an independent ray cast on real meshes under random cameras", "[referee]")
+TEST_CASE("reference() matches an independent ray cast on real meshes and random cameras", "[referee]")
 {
     Scene s;
     s.add_mesh(load_mesh(CLVIS_SOURCE_DIR "/scenes/suzanne.obj"));

@@ -1,0 +1,595 @@
+// Both paths against the referee: every pixel of every buffer judged (zero errors anywhere), raster
+// against ray compared (explained mismatches counted, within CONVENTIONS.md's budget on real meshes
+// under general cameras), on the bundled meshes under framing and seeded random cameras, and on
+// procedural stress scenes built to put samples on shared edges, ties, slivers, huge triangles and
+// extreme depth ranges. Each case prints one line, so a regression shows in the test log.
+#include "catch.hpp"
+
+#include <clvis/clvis.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <string>
+#include <vector>
+
+using namespace clvis;
+
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+/// float32's relative rounding, 2^-24.
+constexpr double float_ulp = 1.0 / 16777216.0;
+/// Explained raster-vs-ray mismatches allowed on real meshes under general cameras, as a fraction
+/// of the pixels (CONVENTIONS.md: 0.005 %).
+constexpr double explained_budget = 5e-5;
+/// Test scenes keep float32's vertex uncertainty (CONVENTIONS.md's last precision paragraph)
+/// within this share of EPS in pixels, and within depth_share of the relative depth tolerance
+/// (a vertex M 2^-24 off moves a surface at view depth d by M 2^-24 / d relative).
+constexpr double precision_share = 0.25;
+constexpr double depth_share = 0.5;
+
+const char* const bundled[] = {"stanford-bunny", "teapot", "spot", "suzanne"};
+
+/// Deterministic on every standard library: mt19937_64's bits, turned into doubles by hand.
+struct Random {
+    std::mt19937_64 bits;
+    explicit Random(std::uint64_t seed) : bits(seed) {}
+    double uniform(double lo, double hi) { return lo + (hi - lo) * double(bits() >> 11) * 0x1p-53; }
+    Vec3 unit()
+    {
+        for (;;) {
+            Vec3 v{uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)};
+            double l = length(v);
+            if (l > 0.1 && l <= 1) return v * (1 / l);
+        }
+    }
+};
+
+double norm(Vec3 v) { return std::fmax(std::fmax(std::fabs(v.x), std::fabs(v.y)), std::fabs(v.z)); }
+
+/// The nearest `near` at which float32 keeps its promise for every vertex of the scene seen from
+/// `eye` (see uncertainty() below): within a share of EPS in pixels and of the depth tolerance.
+double precise_near(const Scene& s, Vec3 eye, bool perspective, double fov_y, int height)
+{
+    double m = 0;
+    for (float v : s.world_positions()) m = std::fmax(m, std::fabs(double(v)));
+    double err = (m + norm(eye)) * float_ulp;
+    double n = err / (depth_share * referee_depth_rel);
+    if (perspective)
+        n = std::fmax(n, err * height / (2 * std::tan(fov_y / 2 * pi / 180)) / (precision_share * referee_edge_eps));
+    return n;
+}
+
+/// How far float32 rounding may move what a path sees, as CONVENTIONS.md estimates it: a vertex of
+/// magnitude M (and the eye) is uncertain by M 2^-24 world units, which near a triangle's nearest
+/// visible depth d is M 2^-24 / d relative and, under perspective, M 2^-24 H / (2 d tan(fov / 2))
+/// pixels. The largest over the scene's triangles.
+struct Uncertainty {
+    double px = 0, depth = 0;
+};
+
+Uncertainty uncertainty(const Scene& s, const Camera& c, int height)
+{
+    double eye = norm(c.eye);
+    bool persp = c.projection == Projection::Perspective;
+    double px_scale = persp ? height / (2 * std::tan(c.fov_y / 2 * pi / 180)) : height / c.ortho_height;
+    Uncertainty u;
+    for (std::uint32_t id = 0; id < s.triangle_count(); ++id) {
+        float v[9];
+        s.triangle(id, v);
+        double m = 0, d = 1e300;
+        for (int k = 0; k < 3; ++k) {
+            Vec3 p{v[3 * k], v[3 * k + 1], v[3 * k + 2]};
+            m = std::fmax(m, norm(p));
+            d = std::fmin(d, c.to_camera(p).z * -1);
+        }
+        d = std::fmax(d, c.near); // nothing nearer is seen
+        double err = (m + eye) * float_ulp;
+        u.depth = std::fmax(u.depth, err / d);
+        u.px = std::fmax(u.px, persp ? err * px_scale / d : err * px_scale);
+    }
+    return u;
+}
+
+struct Tally {
+    std::size_t pixels = 0, explained = 0, cases = 0;
+    double seconds = 0;
+};
+
+struct Frames {
+    std::vector<HostVisibility> vis; ///< raster, ray, then brute when asked
+};
+
+std::string first_errors(const CompareReport& r)
+{
+    std::string s;
+    for (const PixelVerdict& v : r.first_errors) s += "\n    " + v.describe();
+    return s;
+}
+
+/// Renders one frame with both paths (and the brute path), judges every pixel of each with the
+/// referee, checks ids and, optionally, agreement with reference(); compares raster with ray.
+Frames agree(Renderer& renderer, const Scene& scene, const std::string& name, const Camera& cam, int w, int h,
+             bool brute, bool with_reference, Tally& tally)
+{
+    auto t0 = std::chrono::steady_clock::now();
+    INFO("case " << name << " " << w << "x" << h << ": " << cam.to_flags());
+    Uncertainty unc = uncertainty(scene, cam, h);
+    REQUIRE(unc.px <= precision_share * referee_edge_eps);
+    REQUIRE(unc.depth <= depth_share * referee_depth_rel);
+
+    Referee ref(scene, cam, w, h);
+    std::vector<Path> paths = {Path::Raster, Path::Ray};
+    if (brute) paths.push_back(Path::Brute);
+    Frames f;
+    char line[512];
+    int len = std::snprintf(line, sizeof line, "agree %-34s %5dx%-5d", name.c_str(), w, h);
+    CompareOptions options;
+    options.max_reported = 5;
+    for (Path p : paths) {
+        f.vis.push_back(renderer.render(cam, w, h, p).read());
+        const HostVisibility& v = f.vis.back();
+        REQUIRE(v.ids.size() == std::size_t(w) * std::size_t(h));
+        std::size_t invalid = 0, covered = 0;
+        for (std::uint32_t id : v.ids) {
+            invalid += id != background_id && id >= scene.triangle_count();
+            covered += id != background_id;
+        }
+        CompareReport r = ref.check(v, options);
+        INFO(to_string(p) << " path: " << r.errors << " errors, " << invalid << " invalid ids" << first_errors(r));
+        CHECK(invalid == 0);
+        CHECK(r.errors == 0);
+        if (with_reference) {
+            std::size_t differ = 0;
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    bool ambiguous = false;
+                    std::uint32_t id = ref.reference(x, y, &ambiguous);
+                    differ += !ambiguous && v.id(x, y) != id;
+                }
+            CHECK(differ == 0);
+        }
+        len += std::snprintf(line + len, sizeof line - len, " | %s %zu err %zu cov", to_string(p), r.errors, covered);
+    }
+    CompareReport rr = ref.compare(f.vis[0], f.vis[1], options);
+    INFO("raster vs ray" << first_errors(rr));
+    CHECK(rr.errors == 0);
+    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("%s | raster/ray %zu explained | unc %.1e px %.1e rel | %.2f s\n", line, rr.explained, unc.px,
+                unc.depth, seconds);
+    std::fflush(stdout);
+    tally.pixels += std::size_t(w) * std::size_t(h);
+    tally.explained += rr.explained;
+    tally.cases += 1;
+    tally.seconds += seconds;
+    return f;
+}
+
+void check_budget(const Tally& t, const char* what)
+{
+    double share = t.pixels ? double(t.explained) / double(t.pixels) : 0;
+    std::printf("agree %s: %zu cases, %zu pixels, %zu explained (%.5f %%), %.1f s\n", what, t.cases, t.pixels,
+                t.explained, 100 * share, t.seconds);
+    CHECK(t.cases > 0);
+    CHECK(share <= explained_budget);
+}
+
+enum class View { Outside, OrthoOutside, Grazing, Inside, Close };
+
+const char* to_string(View v)
+{
+    switch (v) {
+    case View::Outside: return "outside";
+    case View::OrthoOutside: return "ortho";
+    case View::Grazing: return "grazing";
+    case View::Inside: return "inside";
+    case View::Close: return "close";
+    }
+    return "?";
+}
+
+/// A point on the surface of a random (non-degenerate) triangle, and its unit normal.
+void surface_point(const Scene& s, Random& rng, Vec3* p, Vec3* n)
+{
+    for (;;) {
+        float v[9];
+        s.triangle(std::uint32_t(rng.uniform(0, double(s.triangle_count()))) % s.triangle_count(), v);
+        Vec3 a{v[0], v[1], v[2]}, b{v[3], v[4], v[5]}, c{v[6], v[7], v[8]};
+        Vec3 nn = cross(b - a, c - a);
+        if (length(nn) > 0) {
+            *p = (a + b + c) * (1.0 / 3);
+            *n = normalize(nn);
+            return;
+        }
+    }
+}
+
+Vec3 up_for(Vec3 eye, Vec3 target)
+{
+    Vec3 f = normalize(target - eye);
+    return std::fabs(f.y) > 0.95 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+}
+
+/// A seeded random camera of the given kind, with near no closer than float32 allows at `height`.
+Camera random_camera(const Scene& s, View kind, Random& rng, int height)
+{
+    Bounds b = s.bounds();
+    Vec3 c = b.center();
+    double r = length(b.extent()) / 2;
+    double fov = rng.uniform(25, 90);
+    Vec3 eye, target;
+    double near_wish = 0;
+    switch (kind) {
+    case View::Outside:
+    case View::OrthoOutside: {
+        double dist = r * rng.uniform(1.3, 4);
+        eye = c + rng.unit() * dist;
+        target = c + rng.unit() * (0.3 * r);
+        near_wish = 0.8 * (dist - r);
+        break;
+    }
+    case View::Grazing: {
+        Vec3 p, n;
+        surface_point(s, rng, &p, &n);
+        Vec3 t = normalize(cross(n, rng.unit()));
+        eye = p + n * (r * rng.uniform(0.01, 0.08)) - t * (r * rng.uniform(0.3, 1.2));
+        target = p + t * (0.5 * r);
+        break;
+    }
+    case View::Inside:
+        eye = c + rng.unit() * (0.2 * r);
+        target = eye + rng.unit();
+        break;
+    case View::Close: {
+        // The eye nearer to the surface than near: the triangles around it cross the near plane.
+        Vec3 p, n;
+        surface_point(s, rng, &p, &n);
+        double n0 = precise_near(s, p, true, fov, height);
+        eye = p + n * (n0 * rng.uniform(0.2, 0.8));
+        target = p - n * r + normalize(cross(n, rng.unit())) * (r * rng.uniform(0, 0.7));
+        break;
+    }
+    }
+    bool persp = kind != View::OrthoOutside;
+    double n0 = precise_near(s, eye, persp, fov, height);
+    double near = std::fmax(n0, near_wish);
+    double far = std::fmax(length(eye - c) + 2 * r, 2 * near);
+    Vec3 up = up_for(eye, target);
+    if (!persp) return Camera::orthographic(eye, target, up, r * rng.uniform(0.4, 3), near, far);
+    return Camera::perspective(eye, target, up, fov, near, far);
+}
+
+Scene load_bundled(const std::string& name)
+{
+    Scene s;
+    s.add_mesh(load_mesh(std::string(CLVIS_SOURCE_DIR) + "/scenes/" + name + ".obj"));
+    return s;
+}
+
+/// An n x n grid of quads of size `step` from (x0, y0) at z, split along alternating diagonals
+/// (vertices shared by four and by eight triangles).
+MeshData grid(int n, double x0, double y0, double step, double z)
+{
+    MeshData m;
+    m.name = "grid";
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i)
+            m.positions.insert(m.positions.end(), {float(x0 + i * step), float(y0 + j * step), float(z)});
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            std::uint32_t a = std::uint32_t(j * (n + 1) + i), b = a + 1, c = a + std::uint32_t(n) + 1, d = c + 1;
+            if ((i + j) % 2) m.indices.insert(m.indices.end(), {a, b, d, a, d, c});
+            else m.indices.insert(m.indices.end(), {a, b, c, b, d, c});
+        }
+    return m;
+}
+
+MeshData triangles(std::vector<float> positions, const char* name)
+{
+    MeshData m;
+    m.name = name;
+    m.positions = std::move(positions);
+    for (std::uint32_t i = 0; i < m.positions.size() / 3; ++i) m.indices.push_back(i);
+    return m;
+}
+
+Mat4 scale(double s)
+{
+    Mat4 m;
+    m(0, 0) = m(1, 1) = m(2, 2) = s;
+    return m;
+}
+
+Mat4 rotate_y(double radians, Vec3 offset = {})
+{
+    Mat4 m;
+    m(0, 0) = std::cos(radians);
+    m(0, 2) = std::sin(radians);
+    m(2, 0) = -std::sin(radians);
+    m(2, 2) = std::cos(radians);
+    m(0, 3) = offset.x;
+    m(1, 3) = offset.y;
+    m(2, 3) = offset.z;
+    return m;
+}
+
+/// Pixels whose centre lies strictly inside [x0, x1] x [y0, y1] in raster space and shows the
+/// background.
+std::size_t holes(const HostVisibility& v, double x0, double x1, double y0, double y1)
+{
+    std::size_t n = 0;
+    for (int y = 0; y < v.height; ++y)
+        for (int x = 0; x < v.width; ++x)
+            if (x + 0.5 > x0 && x + 0.5 < x1 && y + 0.5 > y0 && y + 0.5 < y1) n += v.id(x, y) == background_id;
+    return n;
+}
+
+} // namespace
+
+TEST_CASE("both paths give acceptable answers on every pixel of the bundled meshes", "[device][agree]")
+{
+    Device device = Device::open();
+    Tally tally;
+    Random rng(20261124);
+    for (const char* mesh : bundled) {
+        Scene s = load_bundled(mesh);
+        Renderer renderer(device, s);
+        bool small = s.triangle_count() < 10000;
+        std::string m = mesh;
+        Camera framing = Camera::framing(s.bounds());
+        agree(renderer, s, m + " framing", framing, 160, 120, false, false, tally);
+        agree(renderer, s, m + " framing ortho", Camera::framing(s.bounds(), Projection::Orthographic), 160, 120,
+              false, false, tally);
+        agree(renderer, s, m + " framing", framing, 1, 1, true, true, tally);
+        agree(renderer, s, m + " framing", framing, 3, 7, true, true, tally);
+        agree(renderer, s, m + " framing wide", framing, 400, 30, false, false, tally);
+        agree(renderer, s, m + " framing", framing, 48, 36, small, true, tally);
+        for (View kind : {View::Outside, View::OrthoOutside, View::Grazing, View::Inside, View::Close}) {
+            Camera cam = random_camera(s, kind, rng, 96);
+            agree(renderer, s, m + " " + to_string(kind), cam, 128, 96, false, false, tally);
+        }
+    }
+    check_budget(tally, "bundled meshes");
+}
+
+TEST_CASE("both paths are right on the bundled meshes from many cameras at larger sizes",
+          "[device][agree][slow]")
+{
+    Device device = Device::open();
+    Tally tally;
+    Random rng(7);
+    for (const char* mesh : bundled) {
+        Scene s = load_bundled(mesh);
+        Renderer renderer(device, s);
+        std::string m = mesh;
+        agree(renderer, s, m + " framing", Camera::framing(s.bounds()), 1280, 720, false, false, tally);
+        agree(renderer, s, m + " framing ortho", Camera::framing(s.bounds(), Projection::Orthographic), 640, 480,
+              false, false, tally);
+        for (int k = 0; k < 3; ++k)
+            for (View kind : {View::Outside, View::OrthoOutside, View::Grazing, View::Inside, View::Close}) {
+                Camera cam = random_camera(s, kind, rng, 360);
+                agree(renderer, s, m + " " + to_string(kind) + " " + std::to_string(k), cam, 480, 360, false, false,
+                      tally);
+            }
+    }
+    Scene bunny = load_bundled("stanford-bunny");
+    Renderer renderer(device, bunny);
+    agree(renderer, bunny, "stanford-bunny framing", Camera::framing(bunny.bounds()), 1920, 1080, false, false, tally);
+    check_budget(tally, "bundled meshes, larger");
+}
+
+TEST_CASE("a plane face-on, samples on shared edges and vertices, no error, no hole",
+          "[device][agree]")
+{
+    Device device = Device::open();
+    Tally tally;
+    // One world unit per pixel with vertices on pixel centres: world (x, y) is raster (x, 64 - y).
+    Scene s;
+    s.add_mesh(grid(40, 12.5, 12.5, 1, 0));
+    Renderer renderer(device, s);
+    Camera ortho = Camera::orthographic({32, 32, 20}, {32, 32, 0}, {0, 1, 0}, 64, 15, 100);
+    for (const auto& f : {agree(renderer, s, "plane face-on ortho", ortho, 64, 64, true, true, tally),
+                          // fov 90 at distance 32: the same mapping, up to tan's rounding
+                          agree(renderer, s, "plane face-on persp", Camera::perspective({32, 32, 32}, {32, 32, 0},
+                                                                                        {0, 1, 0}, 90, 16, 100),
+                                64, 64, true, true, tally)})
+        for (std::size_t p = 0; p < f.vis.size(); ++p) {
+            INFO("path " << p);
+            CHECK(holes(f.vis[p], 12.5, 52.5, 64 - 52.5, 64 - 12.5) == 0);
+        }
+    // Half-pixel steps, rotated by an irrational angle: edges at every slope.
+    Scene tilted;
+    tilted.add_mesh(grid(60, -15, -15, 0.5, 0), rotate_y(0.3, {32, 32, -5}));
+    Renderer r2(device, tilted);
+    agree(r2, tilted, "plane tilted persp", Camera::perspective({30, 40, 30}, {32, 32, -5}, {0, 1, 0}, 60, 12, 100),
+          96, 80, true, true, tally);
+    agree(r2, tilted, "plane tilted ortho", Camera::orthographic({30, 40, 30}, {32, 32, -5}, {0, 1, 0}, 40, 12, 100),
+          96, 80, true, true, tally);
+    std::printf("agree plane face-on: %zu explained (on edges by construction: judged on errors alone)\n",
+                tally.explained);
+}
+
+TEST_CASE("a tessellated plane edge-on and at grazing angles, no errors", "[device][agree]")
+{
+    Device device = Device::open();
+    Tally tally;
+    Scene s;
+    MeshData g = grid(50, -50, -50, 2, 0);
+    for (std::size_t v = 0; v < g.positions.size(); v += 3) std::swap(g.positions[v + 1], g.positions[v + 2]);
+    s.add_mesh(g); // the plane y = 0, x and z in [-50, 50]
+    Renderer renderer(device, s);
+    // The eye in the plane: it is seen exactly edge-on; an odd height puts a row on its horizon.
+    Camera edge_on = Camera::perspective({0, 0, 30}, {0, 0, -50}, {0, 1, 0}, 60, 15, 200);
+    Frames f = agree(renderer, s, "plane edge-on", edge_on, 121, 81, true, true, tally);
+    for (const HostVisibility& v : f.vis) CHECK(std::count(v.ids.begin(), v.ids.end(), background_id) == 121 * 81);
+    for (double h : {1e-3, 1e-2, 0.3}) {
+        Camera grazing = Camera::perspective({0.3, h, 45}, {10, 0, -50}, {0, 1, 0}, 50, 15, 200);
+        agree(renderer, s, "plane grazing h=" + std::to_string(h), grazing, 161, 121, false, false, tally);
+    }
+    agree(renderer, s, "plane grazing ortho",
+          Camera::orthographic({0, 0.5, 60}, {0, 0, -50}, {0, 1, 0}, 4, 15, 200), 160, 120, false, false, tally);
+}
+
+TEST_CASE("coincident triangles go to the lower id; intersecting ones give no error", "[device][agree]")
+{
+    Device device = Device::open();
+    Tally tally;
+    Scene s;
+    MeshData sphere = make_uv_sphere(1500);
+    std::size_t n = sphere.triangle_count();
+    s.add_mesh(sphere);                                   // ids [0, n)
+    s.add_mesh(sphere);                                   // the same triangles again: [n, 2n)
+    s.add_mesh(sphere, rotate_y(0.7, {0.35, 0.1, 0.2}));  // through the first
+    // Two large triangles crossing at a shallow angle, in front of the spheres.
+    s.add_mesh(triangles({-3, -3, 1.6f, 3, -3, 1.6f, 0, 3, 1.6f, -3, -3, 1.4f, 3, -3, 1.4f, 0, 3, 1.9f}, "crossing"));
+    Renderer renderer(device, s);
+    Random rng(99);
+    std::vector<Camera> cams = {Camera::framing(s.bounds()), Camera::framing(s.bounds(), Projection::Orthographic)};
+    for (int k = 0; k < 3; ++k) cams.push_back(random_camera(s, View::Outside, rng, 96));
+    cams.push_back(random_camera(s, View::Inside, rng, 96));
+    for (std::size_t k = 0; k < cams.size(); ++k) {
+        Frames f = agree(renderer, s, "coincident+intersecting " + std::to_string(k), cams[k], 128, 96, k < 2,
+                         k < 2, tally);
+        for (std::size_t p = 0; p < f.vis.size(); ++p) {
+            std::size_t copy_wins = 0;
+            for (std::uint32_t id : f.vis[p].ids) copy_wins += id >= n && id < 2 * n;
+            INFO("path " << p << ": the copy's higher id won " << copy_wins << " exact ties");
+            CHECK(copy_wins == 0);
+        }
+    }
+}
+
+TEST_CASE("slivers, needles and zero-area triangles, no errors", "[device][agree]")
+{
+    Device device = Device::open();
+    Tally tally;
+    std::vector<float> fan;
+    // 2000 triangles of 0.18 degrees around (32, 32): samples near the centre lie within EPS of many.
+    const int k = 2000;
+    for (int i = 0; i < k; ++i) {
+        double a0 = 2 * pi * i / k, a1 = 2 * pi * (i + 1) / k;
+        fan.insert(fan.end(), {32, 32, 0, float(32 + 30 * std::cos(a0)), float(32 + 30 * std::sin(a0)), 0,
+                               float(32 + 30 * std::cos(a1)), float(32 + 30 * std::sin(a1)), 0});
+    }
+    std::vector<float> needles;
+    Random rng(5);
+    for (int i = 0; i < 300; ++i) {
+        double x = rng.uniform(4, 60), y = rng.uniform(4, 60), a = rng.uniform(0, pi), l = rng.uniform(5, 40);
+        double w = std::pow(10.0, rng.uniform(-4, -1)), z = rng.uniform(0.5, 2);
+        double dx = std::cos(a) * l / 2, dy = std::sin(a) * l / 2, nx = -std::sin(a) * w, ny = std::cos(a) * w;
+        needles.insert(needles.end(), {float(x - dx), float(y - dy), float(z), float(x + dx), float(y + dy), float(z),
+                                       float(x - dx + nx), float(y - dy + ny), float(z)});
+        // and a zero-area one: a repeated vertex
+        needles.insert(needles.end(), {float(x - dx), float(y - dy), float(z), float(x + dx), float(y + dy), float(z),
+                                       float(x + dx), float(y + dy), float(z)});
+    }
+    Scene s;
+    s.add_mesh(triangles(fan, "fan"));
+    s.add_mesh(triangles(needles, "needles"));
+    Renderer renderer(device, s);
+    agree(renderer, s, "slivers ortho", Camera::orthographic({32, 32, 40}, {32, 32, 0}, {0, 1, 0}, 64, 15, 100), 64, 64,
+          true, true, tally);
+    agree(renderer, s, "slivers persp", Camera::perspective({25, 20, 40}, {32, 32, 0}, {0, 1, 0}, 70, 18, 100), 96,
+          96, true, true, tally);
+    agree(renderer, s, "slivers persp 3x7", Camera::perspective({25, 20, 40}, {32, 32, 0}, {0, 1, 0}, 70, 18, 100),
+          3, 7, true, true, tally);
+}
+
+TEST_CASE("triangles far larger than the frustum, behind the eye, across near, no error", "[device][agree]")
+{
+    Device device = Device::open();
+    Tally tally;
+    Scene s;
+    // Under a 2 degree field of view the frustum is 0.1 wide at depth 3: these are 40 times larger.
+    // The second meets the first along y = 0.03, in the middle of the view.
+    s.add_mesh(triangles({-2, -2, -3, 2, -2, -3, 0, 2, -3,                  // facing
+                          -2, -2, -2.9f, 2, -2, -2.9f, 0, 2, -3.097f,       // crossing it in view
+                          -2, -2, 3, 2, -2, 3, 0, 2, 3},                    // behind the eye
+                         "huge"));
+    Renderer renderer(device, s);
+    Camera narrow = Camera::perspective({0, 0, 0}, {0, 0.01, -1}, {0, 1, 0}, 2, 2.5, 10);
+    agree(renderer, s, "huge narrow", narrow, 96, 72, true, true, tally);
+    agree(renderer, s, "huge narrow wide", narrow, 300, 20, true, true, tally);
+
+    // A ground from behind the eye to far ahead, a wall and a tilted sheet, under 60 degrees.
+    Scene g;
+    g.add_mesh(triangles({-30, -1, 10, 30, -1, 10, 0, -1, -40,           // ground, crossing near
+                          -60, -60, -35, 60, -60, -35, 0, 60, -35,       // wall
+                          -40, 30, -20, 40, 30, -20, 0, -30, -38},       // sheet through ground and wall
+                         "ground"));
+    Renderer rg(device, g);
+    Camera wide = Camera::perspective({0, 0, 0}, {0, -0.05, -1}, {0, 1, 0}, 60, 1, 100);
+    wide.near = precise_near(g, wide.eye, true, 60, 96);
+    agree(rg, g, "huge ground across near", wide, 128, 96, true, true, tally);
+    Camera wide_ortho = Camera::orthographic({0, 0, 0}, {0, -0.05, -1}, {0, 1, 0}, 8, 1, 100);
+    wide_ortho.near = precise_near(g, wide.eye, false, 0, 96);
+    agree(rg, g, "huge ground ortho", wide_ortho, 128, 96, true, true, tally);
+}
+
+TEST_CASE("surfaces 4e-6 inside or outside near and far, and layers 3e-6 apart", "[device][agree]")
+{
+    Device device = Device::open();
+    Tally tally;
+    // The camera at the origin looks down -z: a rectangle of screen positions at view depth d.
+    auto rect = [](std::vector<float>& out, double sx0, double sx1, double sy0, double sy1, double d0, double d1) {
+        auto p = [&](double sx, double sy, double d) {
+            out.insert(out.end(), {float(sx * d), float(sy * d), float(-d)});
+        };
+        p(sx0, sy0, d0), p(sx1, sy0, d1), p(sx1, sy1, d1);
+        p(sx0, sy0, d0), p(sx1, sy1, d1), p(sx0, sy1, d0);
+    };
+    const double near = 1, far = 100, in = 1 + 4e-6, out = 1 - 4e-6;
+    std::vector<float> v;
+    rect(v, -0.85, -0.45, -0.5, 0.5, near * out, near * out); // ids 0-1: before near, clipped
+    rect(v, -0.85, -0.45, -0.5, 0.5, near * in, near * in);   // ids 2-3: just behind near, seen
+    rect(v, -0.85, -0.45, -0.5, 0.5, 50, 50);                 // ids 4-5: a backdrop
+    rect(v, -0.4, 0, -0.5, 0.5, far / out, far / out);        // ids 6-7: beyond far, clipped
+    rect(v, 0.05, 0.4, -0.5, 0.5, far * out, far * out);      // ids 8-9: just before far, seen
+    // Two tilted layers, the far one (lower ids) 3e-6 deeper along every ray.
+    std::vector<float> front;
+    rect(front, 0.45, 0.85, -0.5, 0.5, 5, 20);
+    for (float f : front) v.push_back(float(f * (1 + 3e-6))); // ids 10-11
+    v.insert(v.end(), front.begin(), front.end());            // ids 12-13
+    Scene s;
+    s.add_mesh(triangles(v, "tolerances"));
+    Renderer renderer(device, s);
+    Camera cam = Camera::perspective({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 60, near, far);
+    for (auto [w, h] : {std::pair{96, 64}, {301, 201}}) {
+        Frames f = agree(renderer, s, "near/far/layers " + std::to_string(w), cam, w, h, true, true, tally);
+        for (std::size_t p = 0; p < f.vis.size(); ++p) {
+            std::size_t seen[14] = {};
+            for (std::uint32_t id : f.vis[p].ids)
+                if (id < 14) ++seen[id];
+            INFO("path " << p);
+            CHECK(seen[0] + seen[1] + seen[6] + seen[7] + seen[10] + seen[11] == 0);
+            CHECK(seen[2] + seen[3] > 0);
+            CHECK(seen[8] + seen[9] > 0);
+            CHECK(seen[12] + seen[13] > 0);
+        }
+    }
+    Camera ortho = Camera::orthographic({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 4, near, far);
+    agree(renderer, s, "near/far/layers ortho", ortho, 96, 64, true, true, tally);
+}
+
+TEST_CASE("depth ranges from 1e-3 to 1e6, the scene scaled, not the camera", "[device][agree]")
+{
+    Device device = Device::open();
+    Tally tally;
+    Random rng(3);
+    for (double sc : {1e-3, 1.0, 1e6}) {
+        Scene s;
+        s.add_mesh(load_mesh(std::string(CLVIS_SOURCE_DIR) + "/scenes/spot.obj"), scale(sc));
+        s.add_mesh(make_uv_sphere(800), scale(0.6 * sc));
+        Renderer renderer(device, s);
+        char name[64];
+        std::snprintf(name, sizeof name, "spot+sphere x%g", sc);
+        agree(renderer, s, std::string(name) + " framing", Camera::framing(s.bounds()), 128, 96, false, false, tally);
+        for (View kind : {View::Outside, View::OrthoOutside, View::Close})
+            agree(renderer, s, std::string(name) + " " + to_string(kind), random_camera(s, kind, rng, 96), 128, 96,
+                  false, false, tally);
+    }
+    check_budget(tally, "scaled scenes");
+}
