@@ -2,9 +2,10 @@
    key of every pixel; launched by host/ray_pipeline.cpp. Each work-item traces a packet of 4x4
    pixels as the 16 lanes of OpenCL vectors (Wald et al., "Interactive rendering with coherent ray
    tracing", 2001): one walk of the 4-wide tree per packet, nearest child first, with a short
-   stack; every box and triangle test runs on all 16 rays at once, the same operations as the scalar tests of
-   shared/ray.h, so each ray gets the bits that ray_brute.cl computes for it. A node is skipped when
-   no ray of the packet can meet it before its nearest hit so far. Work-groups are screen tiles. */
+   stack; every box and triangle test runs on all 16 rays at once, the same operations as the
+   scalar tests of shared/ray.h, so each ray gets the bits that ray_brute.cl computes for it. A
+   child is skipped when no ray of the packet can meet it before its nearest hit so far.
+   Work-groups are screen tiles of packets. */
 #include "shared/bvh.h"
 #include "shared/camera.h"
 #include "shared/ray.h"
@@ -15,7 +16,8 @@
 #define CLVIS_PACKET (CLVIS_PACKET_W * CLVIS_PACKET_H)  /* rays: the lanes of float16 */
 #define CLVIS_RAY_NONE 0xFFFFFFFFu
 
-/* CLVIS_RAY_STACK (entries, at least the tree's depth) is set by the host at build time. */
+/* CLVIS_RAY_STACK (entries, at least 3 x the 4-wide tree's depth) is set by the host at build
+   time. */
 #ifndef CLVIS_RAY_STACK
 #error "CLVIS_RAY_STACK must be defined"
 #endif
@@ -61,10 +63,10 @@ static int or_lanes(lanes_i m)
 static lanes_f raise(lanes_f acc, lanes_f v) { return select(acc, v, v > acc); }
 static lanes_f lower(lanes_f acc, lanes_f v) { return select(acc, v, v < acc); }
 
-/* clvis_ray_hits_box on every lane; child `k` of node `n`; `cull` is each ray's far distance (far, or its nearest hit)
-   already scaled by CLVIS_IZE_SCALE. Where every lane enters through the same planes the planes
-   are picked once, and with a common origin (perspective) plane - origin is one scalar
-   subtraction: the same operations on the same values as the per-lane form. */
+/* clvis_ray_hits_box on every lane for child k of node n; `cull` is each ray's far distance (far,
+   or its nearest hit) already scaled by CLVIS_IZE_SCALE. Where every lane enters through the same
+   planes the planes are picked once, and with a common origin (perspective) plane - origin is
+   one scalar subtraction: the same operations on the same values as the per-lane form. */
 static lanes_i packet_hits_box(const packet* p, __global const clvis_bvh4_node* n, int k, float near_t, lanes_f cull)
 {
     lanes_f tnx, tny, tnz, tfx, tfy, tfz;
