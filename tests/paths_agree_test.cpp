@@ -52,15 +52,26 @@ double norm(Vec3 v) { return std::fmax(std::fmax(std::fabs(v.x), std::fabs(v.y))
 
 /// The nearest `near` at which float32 keeps its promise for every vertex of the scene seen from
 /// `eye` (see uncertainty() below): within a share of EPS in pixels and of the depth tolerance.
-double precise_near(const Scene& s, Vec3 eye, bool perspective, double fov_y, int height)
+double rounding(const Scene& s, Vec3 eye)
 {
     double m = 0;
     for (float v : s.world_positions()) m = std::fmax(m, std::fabs(double(v)));
-    double err = (m + norm(eye)) * float_ulp;
+    return (m + norm(eye)) * float_ulp;
+}
+
+double precise_near(const Scene& s, Vec3 eye, bool perspective, double fov_y, int height)
+{
+    double err = rounding(s, eye);
     double n = err / (depth_share * referee_depth_rel);
     if (perspective)
         n = std::fmax(n, err * height / (2 * std::tan(fov_y / 2 * pi / 180)) / (precision_share * referee_edge_eps));
-    return n;
+    return n * 1.01; // clear of the bound whatever the rounding
+}
+
+/// The smallest orthographic view height that keeps the same promise (pixels grow with 1 / height).
+double precise_ortho_height(const Scene& s, Vec3 eye, int height)
+{
+    return 1.01 * rounding(s, eye) * height / (precision_share * referee_edge_eps);
 }
 
 /// How far float32 rounding may move what a path sees, as CONVENTIONS.md estimates it: a vertex of
@@ -258,7 +269,10 @@ Camera random_camera(const Scene& s, View kind, Random& rng, int height)
     double near = std::fmax(n0, near_wish);
     double far = std::fmax(length(eye - c) + 2 * r, 2 * near);
     Vec3 up = up_for(eye, target);
-    if (!persp) return Camera::orthographic(eye, target, up, r * rng.uniform(0.4, 3), near, far);
+    if (!persp) {
+        double oh = std::fmax(r * rng.uniform(0.4, 3), precise_ortho_height(s, eye, height));
+        return Camera::orthographic(eye, target, up, oh, near, far);
+    }
     return Camera::perspective(eye, target, up, fov, near, far);
 }
 
@@ -340,7 +354,21 @@ TEST_CASE("both paths give acceptable answers on every pixel of the bundled mesh
         bool small = s.triangle_count() < 10000;
         std::string m = mesh;
         Camera framing = Camera::framing(s.bounds());
-        agree(renderer, s, m + " framing", framing, 160, 120, false, false, tally);
+        Frames f = agree(renderer, s, m + " framing", framing, 160, 120, false, false, tally);
+        // The same judge rejects a corrupted copy: the checks above can fail.
+        Referee ref(s, framing, 160, 120);
+        HostVisibility bad = f.vis[0];
+        std::size_t centre = 60 * 160 + 80;
+        REQUIRE(bad.ids[centre] != background_id);
+        bad.ids[centre] = background_id;
+        bad.ids[centre + 1] = bad.ids[centre + 1] == 0 ? 1 : 0;
+        bad.ids[centre + 2] = std::uint32_t(s.triangle_count());
+        CompareReport r = ref.check(bad);
+        CHECK(r.errors == 3);
+        REQUIRE(r.first_errors.size() == 3);
+        CHECK(r.first_errors[0].error == AnswerError::Missed);
+        CHECK(r.first_errors[1].error != AnswerError::None);
+        CHECK(r.first_errors[2].error == AnswerError::InvalidId);
         agree(renderer, s, m + " framing ortho", Camera::framing(s.bounds(), Projection::Orthographic), 160, 120,
               false, false, tally);
         agree(renderer, s, m + " framing", framing, 1, 1, true, true, tally);
@@ -368,7 +396,7 @@ TEST_CASE("both paths are right on the bundled meshes from many cameras at large
         agree(renderer, s, m + " framing", Camera::framing(s.bounds()), 1280, 720, false, false, tally);
         agree(renderer, s, m + " framing ortho", Camera::framing(s.bounds(), Projection::Orthographic), 640, 480,
               false, false, tally);
-        for (int k = 0; k < 3; ++k)
+        for (int k = 0; k < 6; ++k)
             for (View kind : {View::Outside, View::OrthoOutside, View::Grazing, View::Inside, View::Close}) {
                 Camera cam = random_camera(s, kind, rng, 360);
                 agree(renderer, s, m + " " + to_string(kind) + " " + std::to_string(k), cam, 480, 360, false, false,
@@ -527,6 +555,41 @@ TEST_CASE("triangles far larger than the frustum, behind the eye, across near, n
     Camera wide_ortho = Camera::orthographic({0, 0, 0}, {0, -0.05, -1}, {0, 1, 0}, 8, 1, 100);
     wide_ortho.near = precise_near(g, wide.eye, false, 0, 96);
     agree(rg, g, "huge ground ortho", wide_ortho, 128, 96, true, true, tally);
+}
+
+TEST_CASE("soups of intersecting triangles, and triangles all around the eye, no error", "[device][agree]")
+{
+    Device device = Device::open();
+    Tally tally;
+    Random rng(11);
+    Scene soup;
+    soup.add_mesh(make_soup(3000, 17));
+    Renderer rs(device, soup);
+    agree(rs, soup, "soup framing", Camera::framing(soup.bounds()), 128, 96, true, true, tally);
+    agree(rs, soup, "soup framing ortho", Camera::framing(soup.bounds(), Projection::Orthographic), 128, 96, false,
+          false, tally);
+    agree(rs, soup, "soup inside", random_camera(soup, View::Inside, rng, 96), 128, 96, false, false, tally);
+
+    // Triangles with vertices in a ball of radius 1 around the eye at the origin: most cross the
+    // near plane or the eye's plane, some have vertices behind the eye.
+    std::vector<float> v;
+    for (int i = 0; i < 400; ++i) {
+        Vec3 c = rng.unit() * rng.uniform(0.2, 1);
+        for (int k = 0; k < 3; ++k) {
+            Vec3 p = c + rng.unit() * rng.uniform(0.05, 0.6);
+            v.insert(v.end(), {float(p.x), float(p.y), float(p.z)});
+        }
+    }
+    Scene around;
+    around.add_mesh(triangles(v, "around the eye"));
+    Renderer ra(device, around);
+    for (int k = 0; k < 4; ++k) {
+        Vec3 eye{0, 0, 0};
+        double fov = rng.uniform(40, 120);
+        Camera cam = Camera::perspective(eye, rng.unit(), {0, 1, 0}, fov, precise_near(around, eye, true, fov, 96),
+                                         3);
+        agree(ra, around, "around the eye " + std::to_string(k), cam, 128, 96, k < 2, k < 2, tally);
+    }
 }
 
 TEST_CASE("surfaces 4e-6 inside or outside near and far, and layers 3e-6 apart", "[device][agree]")
