@@ -27,6 +27,9 @@ constexpr int tile_size = 1 << tile_log2;
 constexpr double edge_on_rel = 1e-12;
 /// Most vertices of a triangle clipped by two parallel planes.
 constexpr int max_poly = 5;
+/// A triangle touching more than this share of the tiles is tested at every pixel instead of
+/// binned: a few hundred screen-filling triangles would otherwise fill gigabytes of tile lists.
+constexpr double everywhere_share = 0.25;
 
 /// a x + b y + c over raster positions.
 struct Linear {
@@ -89,6 +92,7 @@ struct Referee::Impl {
     int tiles_x = 0, tiles_y = 0;
     std::vector<std::uint32_t> tile_start; ///< tiles_x * tiles_y + 1 offsets into tile_tris
     std::vector<std::uint32_t> tile_tris;  ///< triangle ids per tile, ascending
+    std::vector<std::uint32_t> everywhere; ///< ids of triangles too large to bin, ascending
 
     /// What the nearest robustly covering triangle is at a sample.
     struct Nearest {
@@ -247,24 +251,35 @@ void Referee::Impl::bin()
         *last = int(std::fmin(l, double(size - 1))) >> tile_log2;
         return true;
     };
-    std::vector<std::uint32_t> count(std::size_t(tiles_x) * tiles_y + 1, 0);
+    std::size_t tiles = std::size_t(tiles_x) * tiles_y;
+    std::vector<std::uint32_t> count(tiles + 1, 0);
     auto visit = [&](auto fn) {
         for (std::size_t i = 0; i < tris.size(); ++i) {
             const Triangle& t = tris[i];
             int x0, x1, y0, y1;
             if (t.n == 0 || !range(t.lo_x, t.hi_x, width, &x0, &x1) || !range(t.lo_y, t.hi_y, height, &y0, &y1))
                 continue;
+            if (double(x1 - x0 + 1) * (y1 - y0 + 1) > everywhere_share * double(tiles) && tiles > 4) {
+                fn(tiles, std::uint32_t(i));
+                continue;
+            }
             for (int ty = y0; ty <= y1; ++ty)
                 for (int tx = x0; tx <= x1; ++tx) fn(std::size_t(ty) * tiles_x + tx, std::uint32_t(i));
         }
     };
-    visit([&](std::size_t tile, std::uint32_t) { ++count[tile + 1]; });
+    everywhere.clear();
+    visit([&](std::size_t tile, std::uint32_t id) {
+        if (tile == tiles) everywhere.push_back(id);
+        else ++count[tile + 1];
+    });
     for (std::size_t k = 1; k < count.size(); ++k) count[k] += count[k - 1];
     if (count.back() > std::numeric_limits<std::uint32_t>::max())
         throw Error(Error::Kind::Limit, "referee: too many triangle-tile pairs to index");
     tile_start = count;
     tile_tris.resize(count.back());
-    visit([&](std::size_t tile, std::uint32_t id) { tile_tris[count[tile]++] = id; });
+    visit([&](std::size_t tile, std::uint32_t id) {
+        if (tile < tiles) tile_tris[count[tile]++] = id;
+    });
 }
 
 TriangleAtSample Referee::Impl::classify(const Triangle& t, double x, double y) const
@@ -321,19 +336,20 @@ template <class Fn> void Referee::Impl::for_candidates(int x, int y, Fn fn) cons
 {
     std::size_t tile = std::size_t(y >> tile_log2) * tiles_x + (x >> tile_log2);
     double cx = x + 0.5, cy = y + 0.5;
-    for (std::uint32_t k = tile_start[tile]; k < tile_start[tile + 1]; ++k) {
-        std::uint32_t id = tile_tris[k];
+    auto visit = [&](std::uint32_t id) {
         const Triangle& t = tris[id];
-        if (cx < t.lo_x || cx > t.hi_x || cy < t.lo_y || cy > t.hi_y) continue;
+        if (cx < t.lo_x || cx > t.hi_x || cy < t.lo_y || cy > t.hi_y) return;
         fn(id, classify(t, cx, cy));
-    }
+    };
+    for (std::uint32_t k = tile_start[tile]; k < tile_start[tile + 1]; ++k) visit(tile_tris[k]);
+    for (std::uint32_t id : everywhere) visit(id);
 }
 
 Referee::Impl::Nearest Referee::Impl::nearest(int x, int y) const
 {
     Nearest n;
     for_candidates(x, y, [&](std::uint32_t id, const TriangleAtSample& s) {
-        if (s.cls == SampleClass::In && s.depth < n.depth) { // ascending ids: ties keep the lower
+        if (s.cls == SampleClass::In && (s.depth < n.depth || (s.depth == n.depth && id < n.id))) {
             n.id = id;
             n.depth = s.depth;
         }

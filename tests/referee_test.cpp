@@ -371,6 +371,32 @@ TEST_CASE("reference() matches an independent ray cast on real meshes and random
     CHECK(covered > 6 * w * h / 10);
 }
 
+TEST_CASE("screen-filling layers are judged without binning them, ties to the lower id", "[referee]")
+{
+    // 300 triangles larger than the view at depths 2 .. 3, nearest last, the nearest twice.
+    std::vector<float> v;
+    for (int k = 0; k < 300; ++k) {
+        float z = -3 + float(k) / 300;
+        v.insert(v.end(), {-50, -50, z, 50, -50, z, 0, 50, z});
+    }
+    v.insert(v.end(), v.end() - 9, v.end());
+    Scene s = scene_of(v);
+    Referee ref(s, axis_camera(), 320, 240);
+    HostVisibility vis;
+    vis.width = 320;
+    vis.height = 240;
+    vis.ids.assign(320 * 240, 299);
+    vis.ids[5] = 300; // the duplicate of the nearest: acceptable, not the reference
+    vis.ids[6] = 298; // a layer 1/300 behind: hidden
+    CompareReport r = ref.check(vis);
+    CHECK(r.equal == 320 * 240 - 2);
+    CHECK(r.explained == 1);
+    CHECK(r.errors == 1);
+    REQUIRE(r.first_errors.size() == 1);
+    CHECK(r.first_errors[0].error == AnswerError::HiddenSurface);
+    CHECK(r.first_errors[0].nearest_id == 299);
+}
+
 TEST_CASE("the referee judges a 1920x1080 frame of a 70k-triangle mesh in a few seconds", "[referee][slow]")
 {
     Scene s;
