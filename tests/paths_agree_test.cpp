@@ -378,6 +378,7 @@ TEST_CASE("both paths give acceptable answers on every pixel of the bundled mesh
         for (View kind : {View::Outside, View::OrthoOutside, View::Grazing, View::Inside, View::Close}) {
             Camera cam = random_camera(s, kind, rng, 96);
             agree(renderer, s, m + " " + to_string(kind), cam, 128, 96, false, false, tally);
+            agree(renderer, s, m + " " + to_string(kind), cam, 3, 7, true, true, tally);
         }
     }
     check_budget(tally, "bundled meshes");
@@ -396,7 +397,7 @@ TEST_CASE("both paths are right on the bundled meshes from many cameras at large
         agree(renderer, s, m + " framing", Camera::framing(s.bounds()), 1280, 720, false, false, tally);
         agree(renderer, s, m + " framing ortho", Camera::framing(s.bounds(), Projection::Orthographic), 640, 480,
               false, false, tally);
-        for (int k = 0; k < 6; ++k)
+        for (int k = 0; k < 12; ++k)
             for (View kind : {View::Outside, View::OrthoOutside, View::Grazing, View::Inside, View::Close}) {
                 Camera cam = random_camera(s, kind, rng, 360);
                 agree(renderer, s, m + " " + to_string(kind) + " " + std::to_string(k), cam, 480, 360, false, false,
