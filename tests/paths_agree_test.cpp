@@ -638,6 +638,65 @@ TEST_CASE("surfaces 4e-6 inside or outside near and far, and layers 3e-6 apart",
     agree(renderer, s, "near/far/layers ortho", ortho, 96, 64, true, true, tally);
 }
 
+TEST_CASE("extreme aspects and fields of view, any up, far cuts, tile and leaf sizes", "[device][agree]")
+{
+    Device device = Device::open();
+    Tally tally;
+    Random rng(23);
+    Scene s = load_bundled("spot");
+    Bounds b = s.bounds();
+    Vec3 c = b.center();
+    double r = length(b.extent()) / 2;
+    Renderer renderer(device, s);
+    Camera framing = Camera::framing(b);
+    agree(renderer, s, "spot tall", framing, 1, 200, true, true, tally);
+    Camera near_view = framing; // 1.6 r away, looking at a point of the surface
+    Vec3 p, n;
+    surface_point(s, rng, &p, &n);
+    near_view.eye = p + n * (1.6 * r);
+    near_view.target = p;
+    near_view.near = precise_near(s, near_view.eye, true, 45, 1);
+    agree(renderer, s, "spot long", near_view, 500, 1, true, true, tally);
+    agree(renderer, s, "spot long", near_view, 997, 3, true, true, tally);
+    // Far through the middle of the mesh: samples on the far plane's cut.
+    Camera cut = framing;
+    cut.far = length(cut.eye - c);
+    agree(renderer, s, "spot far cut", cut, 128, 96, false, true, tally);
+    {
+        Vec3 eye = c + rng.unit() * (1.5 * r);
+        Vec3 up = rng.unit(); // any up vector not along the view
+        Camera cam = Camera::perspective(eye, c, up, 170, precise_near(s, eye, true, 170, 96), length(eye - c) + 2 * r);
+        agree(renderer, s, "spot fov 170", cam, 128, 96, false, true, tally);
+    }
+    {
+        // A 5 degree view from far away: float32 keeps EPS only with the eye near the origin, so
+        // the mesh moves out there (the scene moves, not the camera).
+        Vec3 at = rng.unit() * (r / std::tan(2.5 * pi / 180));
+        Mat4 move;
+        move(0, 3) = at.x - c.x;
+        move(1, 3) = at.y - c.y;
+        move(2, 3) = at.z - c.z;
+        Scene far_spot;
+        far_spot.add_mesh(load_mesh(std::string(CLVIS_SOURCE_DIR) + "/scenes/spot.obj"), move);
+        Renderer rf(device, far_spot);
+        Vec3 eye{0, 0, 0};
+        Camera cam = Camera::perspective(eye, at, rng.unit(), 5, precise_near(far_spot, eye, true, 5, 96),
+                                         length(at) + 2 * r);
+        agree(rf, far_spot, "spot fov 5", cam, 128, 96, false, true, tally);
+    }
+    for (int tile : {4, 64, 256})
+        for (int leaf : {1, 16}) {
+            RenderOptions o;
+            o.tile_size = tile;
+            o.bvh.max_leaf_size = leaf;
+            o.bvh.sah_bins = leaf == 1 ? 2 : 64;
+            Renderer tuned(device, s, o);
+            Camera cam = random_camera(s, View::Close, rng, 96);
+            agree(tuned, s, "spot tile " + std::to_string(tile) + " leaf " + std::to_string(leaf), cam, 128, 96, false,
+                  false, tally);
+        }
+}
+
 TEST_CASE("depth ranges from 1e-3 to 1e6, the scene scaled, not the camera", "[device][agree]")
 {
     Device device = Device::open();
