@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <string>
+#include <vector>
 
 namespace clvis::detail {
 
@@ -95,6 +96,15 @@ struct RasterPipeline::Impl {
         fine_group = cl::NDRange(gx, gy);
     }
 
+    /// A zeroed device buffer. Made from host zeros rather than left undefined: Oclgrind 21.10 reported
+    /// kernel-written contents of fresh, uninitialised buffers as uninitialised once buffers of an
+    /// earlier Renderer on the same device had been released.
+    cl::Buffer make_buffer(std::size_t bytes) const
+    {
+        std::vector<unsigned char> zeros(bytes, 0);
+        return cl::Buffer(device.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, bytes, zeros.data());
+    }
+
     /// Makes `buffer` hold at least `needed` elements of `size` bytes, growing geometrically.
     void reserve(cl::Buffer& buffer, std::size_t& capacity, std::size_t needed, std::size_t size,
                  std::size_t first, const char* what)
@@ -102,7 +112,7 @@ struct RasterPipeline::Impl {
         if (needed <= capacity && buffer()) return;
         std::size_t grown = std::max({needed, capacity * 2, first});
         device.check_allocation(std::uint64_t(grown) * size, std::string("the raster path's ") + what);
-        buffer = cl::Buffer(device.context, CL_MEM_READ_WRITE, grown * size);
+        buffer = make_buffer(grown * size);
         capacity = grown;
     }
 
@@ -127,8 +137,6 @@ struct RasterPipeline::Impl {
     /// Runs setup and returns how many triangles it listed for binning (all of them stored).
     std::size_t run_setup(const DeviceScene& scene, Frame& frame)
     {
-        reserve(projected, projected_capacity, scene.vertex_count, sizeof(clvis_raster_projected), 1,
-                "projected vertices");
         cl::Event projected_done;
         vertices.setArg(0, sizeof frame.gpu_camera, &frame.gpu_camera);
         vertices.setArg(1, scene.positions);
@@ -169,22 +177,29 @@ struct RasterPipeline::Impl {
                                                 std::to_string(CLVIS_MAX_IMAGE_SIZE) + " pixels a side (" +
                                                 std::to_string(frame.width) + "x" + std::to_string(frame.height) +
                                                 " asked): its fixed-point edge functions hold no more");
+        if (scene.triangle_count == 0) {
+            clear_keys(clear, frame);
+            return;
+        }
+        // Buffers whose size the frame fixes are made before anything is enqueued.
+        reserve(projected, projected_capacity, scene.vertex_count, sizeof(clvis_raster_projected), 1,
+                "projected vertices");
+        std::size_t tiles = std::size_t((frame.width + (1 << tile_log2) - 1) >> tile_log2) *
+                            std::size_t((frame.height + (1 << tile_log2) - 1) >> tile_log2);
+        if (tiles + 1 > tile_capacity) {
+            device.check_allocation(std::uint64_t(tiles + 1) * sizeof(cl_uint), "the raster path's tile bins");
+            tile_counts = make_buffer((tiles + 1) * sizeof(cl_uint));
+            offsets = make_buffer((tiles + 1) * sizeof(cl_uint));
+            cursors = make_buffer((tiles + 1) * sizeof(cl_uint));
+            tile_capacity = tiles + 1;
+        }
         clear_keys(clear, frame);
-        if (scene.triangle_count == 0) return;
         std::size_t listed = run_setup(scene, frame);
         if (listed == 0) return;
 
         int tile = 1 << tile_log2;
         int tiles_x = (frame.width + tile - 1) / tile, tiles_y = (frame.height + tile - 1) / tile;
         std::size_t tile_count = std::size_t(tiles_x) * std::size_t(tiles_y);
-        if (tile_count + 1 > tile_capacity) {
-            std::size_t n = tile_count + 1;
-            device.check_allocation(std::uint64_t(n) * sizeof(cl_uint), "the raster path's tile bins");
-            tile_counts = cl::Buffer(device.context, CL_MEM_READ_WRITE, n * sizeof(cl_uint));
-            offsets = cl::Buffer(device.context, CL_MEM_READ_WRITE, n * sizeof(cl_uint));
-            cursors = cl::Buffer(device.context, CL_MEM_READ_WRITE, n * sizeof(cl_uint));
-            tile_capacity = n;
-        }
         cl::Event counted, scanned, filled, drawn;
         zero_words(frame, tile_counts, tile_count, "bin");
         cl::NDRange bin_global(round_up(listed, bin_group)), bin_local(bin_group);
@@ -255,7 +270,7 @@ RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& option
         m.bin_fill = cl::Kernel(bin, "raster_bin_fill");
         m.fine = cl::Kernel(device.program("raster_fine"), "raster_fine");
         m.pick_groups();
-        m.counters = cl::Buffer(device.context, CL_MEM_READ_WRITE, 2 * sizeof(cl_ulong));
+        m.counters = m.make_buffer(2 * sizeof(cl_ulong));
         m.reserve(m.tris, m.tri_capacity, first_tri_capacity, sizeof(clvis_raster_tri), first_tri_capacity,
                   "list of triangles to bin");
     } catch (const cl::Error& e) {
