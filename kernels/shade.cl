@@ -1,6 +1,7 @@
 /* Turns a visibility buffer into an RGBA8 image: Lambert with a directional light (smooth where
    the scene has vertex normals), view depth, or a false colour per triangle id. Reads only the
-   keys and the scene; knows nothing of which path wrote the keys. */
+   keys and the scene; knows nothing of which path wrote the keys. Scalar vector math throughout:
+   Oclgrind 21.10's uninitialised-value checker crashes on float3 shuffles. */
 #include "shared/camera.h"
 #include "shared/visibility.h"
 
@@ -8,20 +9,37 @@
 #define CLVIS_SHADE_DEPTH 1
 #define CLVIS_SHADE_IDS 2
 
-static float3 load_position(__global const float* p, uint v) { return vload3(v, p); }
-
-static uchar4 rgba(float3 c)
+static clvis_vec3 v3(float x, float y, float z) { clvis_vec3 r; r.x = x; r.y = y; r.z = z; return r; }
+static clvis_vec3 load3(__global const float* p, uint v) { return v3(p[3 * v], p[3 * v + 1], p[3 * v + 2]); }
+static clvis_vec3 sub3(clvis_vec3 a, clvis_vec3 b) { return v3(a.x - b.x, a.y - b.y, a.z - b.z); }
+static clvis_vec3 scale3(clvis_vec3 a, float s) { return v3(a.x * s, a.y * s, a.z * s); }
+static clvis_vec3 add3(clvis_vec3 a, clvis_vec3 b) { return v3(a.x + b.x, a.y + b.y, a.z + b.z); }
+static float dot3(clvis_vec3 a, clvis_vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static clvis_vec3 cross3(clvis_vec3 a, clvis_vec3 b)
 {
-    c = clamp(c, 0.0f, 1.0f);
-    return (uchar4)((uchar)(c.x * 255.0f + 0.5f), (uchar)(c.y * 255.0f + 0.5f), (uchar)(c.z * 255.0f + 0.5f), 255);
+    return v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+static clvis_vec3 unit3(clvis_vec3 a)
+{
+    float len = sqrt(dot3(a, a));
+    return len > 0.0f ? scale3(a, 1.0f / len) : a;
 }
 
-static float3 id_colour(uint id)
+static uchar4 rgba(float r, float g, float b)
 {
-    /* a 32-bit integer hash (lowbias32) spread over hue-like channels */
+    r = clamp(r, 0.0f, 1.0f);
+    g = clamp(g, 0.0f, 1.0f);
+    b = clamp(b, 0.0f, 1.0f);
+    return (uchar4)((uchar)(r * 255.0f + 0.5f), (uchar)(g * 255.0f + 0.5f), (uchar)(b * 255.0f + 0.5f), 255);
+}
+
+static uchar4 id_colour(uint id)
+{
+    /* a 32-bit integer hash (lowbias32), one byte per channel */
     uint h = id;
     h ^= h >> 16; h *= 0x7feb352du; h ^= h >> 15; h *= 0x846ca68bu; h ^= h >> 16;
-    return (float3)((h & 255u) / 255.0f, ((h >> 8) & 255u) / 255.0f, ((h >> 16) & 255u) / 255.0f) * 0.8f + 0.2f;
+    return rgba(0.2f + 0.8f * (h & 255u) / 255.0f, 0.2f + 0.8f * ((h >> 8) & 255u) / 255.0f,
+                0.2f + 0.8f * ((h >> 16) & 255u) / 255.0f);
 }
 
 __kernel void shade(__global const ulong* keys, __global uchar4* out, clvis_camera_gpu cam,
@@ -40,34 +58,36 @@ __kernel void shade(__global const ulong* keys, __global uchar4* out, clvis_came
     }
     float depth = clvis_key_depth(key);
     if (mode == CLVIS_SHADE_IDS) {
-        out[pixel] = rgba(id_colour(id));
+        out[pixel] = id_colour(id);
         return;
     }
     if (mode == CLVIS_SHADE_DEPTH) {
         float g = 1.0f - (depth - cam.near_d) / (cam.far_d - cam.near_d);
-        out[pixel] = rgba((float3)(g, g, g));
+        out[pixel] = rgba(g, g, g);
         return;
     }
     uint i0 = indices[3 * id], i1 = indices[3 * id + 1], i2 = indices[3 * id + 2];
-    float3 v0 = load_position(positions, i0), v1 = load_position(positions, i1), v2 = load_position(positions, i2);
+    clvis_vec3 p0 = load3(positions, i0), p1 = load3(positions, i1), p2 = load3(positions, i2);
     clvis_vec3 o, d;
     clvis_primary_ray(cam, x + 0.5f, y + 0.5f, &o, &d);
-    float3 dir = normalize((float3)(d.x, d.y, d.z));
-    float3 n = cross(v1 - v0, v2 - v0);
-    float area2 = length(n);
-    n = area2 > 0.0f ? n / area2 : -dir;
+    clvis_vec3 dir = unit3(d);
+    clvis_vec3 n = cross3(sub3(p1, p0), sub3(p2, p0));
+    float area2 = sqrt(dot3(n, n));
+    n = area2 > 0.0f ? scale3(n, 1.0f / area2) : scale3(dir, -1.0f);
     if (has_normals && area2 > 0.0f) {
         /* barycentrics of the hit point in the triangle's plane */
-        float3 p = (float3)(o.x, o.y, o.z) + (float3)(d.x, d.y, d.z) * depth;
-        float3 c0 = cross(v2 - v1, p - v1), c1 = cross(v0 - v2, p - v2);
-        float b0 = dot(c0, n) / area2, b1 = dot(c1, n) / area2, b2 = 1.0f - b0 - b1;
-        float3 s = load_position(normals, i0) * b0 + load_position(normals, i1) * b1 + load_position(normals, i2) * b2;
-        if (dot(s, s) > 0.0f) n = normalize(s);
+        clvis_vec3 p = add3(o, scale3(d, depth));
+        float b0 = dot3(cross3(sub3(p2, p1), sub3(p, p1)), n) / area2;
+        float b1 = dot3(cross3(sub3(p0, p2), sub3(p, p2)), n) / area2;
+        float b2 = 1.0f - b0 - b1;
+        clvis_vec3 s = add3(add3(scale3(load3(normals, i0), b0), scale3(load3(normals, i1), b1)),
+                            scale3(load3(normals, i2), b2));
+        if (dot3(s, s) > 0.0f) n = unit3(s);
     }
-    if (dot(n, dir) > 0.0f) n = -n; /* two-sided: face the viewer */
-    float3 light = normalize((float3)(light_x, light_y, light_z));
-    float lambert = fmax(dot(n, -light), 0.0f);
-    float facing = fmax(dot(n, -dir), 0.0f);
-    float3 albedo = (float3)(0.85f, 0.80f, 0.72f);
-    out[pixel] = rgba(albedo * (0.10f + 0.65f * lambert + 0.25f * facing));
+    if (dot3(n, dir) > 0.0f) n = scale3(n, -1.0f); /* two-sided: face the viewer */
+    clvis_vec3 light = unit3(v3(light_x, light_y, light_z));
+    float lambert = fmax(-dot3(n, light), 0.0f);
+    float facing = fmax(-dot3(n, dir), 0.0f);
+    float k = 0.10f + 0.65f * lambert + 0.25f * facing;
+    out[pixel] = rgba(0.85f * k, 0.80f * k, 0.72f * k);
 }
