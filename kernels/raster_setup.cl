@@ -56,17 +56,12 @@ static void emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_ra
         for (int j = t.y0; j <= t.y1; ++j, r0 += t.ey[0], r1 += t.ey[1], r2 += t.ey[2]) {
             ulong8 key = clvis_raster_span8(r0, r1, r2, t.ex[0], t.ex[1], t.ex[2], t.wc, t.w[0], t.w[1], t.w[2], t.id,
                                             t.x1 - t.x0 + 1, out.cam.ortho, out.cam.near_d, out.cam.far_d);
-            /* One bit per covered lane, visited lowest first: no unpredictable branch per lane. */
-            long8 bits = (key != (ulong8)(CLVIS_BACKGROUND_KEY)) & (long8)(1, 2, 4, 8, 16, 32, 64, 128);
-            uint covered = (uint)(bits.s0 | bits.s1 | bits.s2 | bits.s3 | bits.s4 | bits.s5 | bits.s6 | bits.s7);
-            if (covered == 0u) continue;
+            if (all(key == (ulong8)(CLVIS_BACKGROUND_KEY))) continue;
             ulong lane[8];
             vstore8(key, 0, lane);
             volatile __global ulong* row = out.keys + (size_t)j * (size_t)out.cam.width + (size_t)t.x0;
-            for (; covered != 0u; covered &= covered - 1u) {
-                int l = 31 - (int)clz(covered & (0u - covered));
-                atom_min(&row[l], lane[l]);
-            }
+            for (int l = 0; l < 8; ++l)
+                if (lane[l] != CLVIS_BACKGROUND_KEY) atom_min(&row[l], lane[l]);
         }
         return;
     }

@@ -22,9 +22,8 @@
 #define CLVIS_GUARD_HALF 8000.0f          /* px from the image centre */
 #define CLVIS_MAX_IMAGE_SIZE 16384        /* px, width and height */
 
-/* Clipping against near and the four guard planes adds at most one vertex per plane. */
+/* Clip planes: near and the guard band's four sides (clvis_clip_distance). */
 #define CLVIS_CLIP_PLANES 5
-#define CLVIS_CLIP_MAX_VERTS (3 + CLVIS_CLIP_PLANES)
 
 /* Cull modes (RenderOptions::cull); front faces are counter-clockwise on screen. */
 #define CLVIS_CULL_NONE 0
