@@ -73,14 +73,16 @@ std::vector<Case> cases()
 
 } // namespace
 
+// Each case opens Oclgrind afresh: Oclgrind 21.10 reports reads of kernel-written buffers as
+// uninitialised once an earlier context's buffers on the same device have been released.
 TEST_CASE("every kernel runs clean on Oclgrind and matches PoCL bit for bit", "[.oclgrind]")
 {
-    Device grind = Device::open("oclgrind");
     Device pocl = Device::open("portable computing language");
-    REQUIRE(grind.info().name.find("Oclgrind") != std::string::npos);
+    REQUIRE(Device::open("oclgrind").info().name.find("Oclgrind") != std::string::npos);
     for (Case& c : cases()) {
         for (Path path : {Path::Raster, Path::Ray, Path::Brute}) {
             INFO(c.name << ", " << to_string(path) << " path");
+            Device grind = Device::open("oclgrind");
             Renderer on_grind(grind, c.scene);
             Renderer on_pocl(pocl, c.scene);
             auto a = on_grind.render(c.camera, c.width, c.height, path).read_keys();
@@ -96,7 +98,7 @@ TEST_CASE("every kernel runs clean on Oclgrind and matches PoCL bit for bit", "[
     }
     // Shading reads the visibility buffer and the scene: it runs clean too.
     Case c = std::move(cases().front());
-    Renderer r(grind, c.scene);
+    Renderer r(Device::open("oclgrind"), c.scene);
     auto vis = r.render(c.camera, c.width, c.height, Path::Raster);
     for (ShadeMode mode : {ShadeMode::Lambert, ShadeMode::Depth, ShadeMode::Ids}) {
         ShadeOptions o;
