@@ -290,29 +290,34 @@ TriangleAtSample Referee::Impl::classify(const Triangle& t, double x, double y) 
         r.out_by_depth = true;
         return r;
     }
-    double emin = inf;
+    bool hits = false; // the sample's ray meets the triangle outside the depth range
     if (!t.flat) {
+        double emin = inf;
         for (const Linear& e : t.edge) emin = std::fmin(emin, e.at(x, y));
         if (emin < -eps) {
             r.outside = -emin;
             return r;
         }
-        r.depth = t.num.at(x, y) / t.det.at(x, y);
-        if (!(r.depth >= near_lo && r.depth <= far_hi)) { // NaN, behind the eye, or beyond far
-            r.out_by_depth = true;
-            return r;
-        }
-        if (emin > eps && r.depth >= near_in && r.depth <= far_in) {
-            r.cls = SampleClass::In;
-            return r;
-        }
         if (emin >= 0) {
-            r.cls = SampleClass::Ambiguous;
-            return r;
+            // Inside every edge: the ray meets the triangle, at its plane's depth along the ray.
+            r.depth = t.num.at(x, y) / t.det.at(x, y);
+            if (r.depth >= near_lo && r.depth <= far_hi) {
+                bool in = emin > eps && r.depth >= near_in && r.depth <= far_in;
+                r.cls = in ? SampleClass::In : SampleClass::Ambiguous;
+                return r;
+            }
+            if (emin > eps) {
+                r.out_by_depth = true;
+                return r;
+            }
+            hits = true;
         }
     }
-    // Outside an edge by at most EPS (or flat): the distance to the visible part decides, which
-    // keeps samples beyond a sliver's sharp tip out, and judges a flat triangle by its segment.
+    // Within EPS outside an edge, near an edge with the hit clipped, or flat: the distance to the
+    // visible part decides, at the depth of its nearest point. The plane's depth along a ray that
+    // misses the triangle means nothing (under a plane seen almost edge-on it may lie anywhere);
+    // this also keeps samples beyond a sliver's sharp tip out, and judges a flat triangle by its
+    // segment.
     double best = inf, depth = 0;
     for (int k = 0; k < t.n; ++k) {
         int j = t.n == 1 ? k : (k + 1) % t.n;
@@ -324,10 +329,11 @@ TriangleAtSample Referee::Impl::classify(const Triangle& t, double x, double y) 
         }
     }
     if (best > eps) {
-        r.outside = best;
+        r.out_by_depth = hits;
+        r.outside = hits ? 0 : best;
         return r;
     }
-    if (t.flat) r.depth = depth;
+    r.depth = depth;
     r.cls = SampleClass::Ambiguous;
     return r;
 }

@@ -207,6 +207,22 @@ TEST_CASE("a triangle crossing the near plane is judged by its visible part", "[
     CHECK(outs > 100);
 }
 
+TEST_CASE("near an almost edge-on triangle, the depth is its nearest visible point's", "[referee]")
+{
+    // The plane 4x + z = 0.004 passes 1e-3 beside the eye; the triangle projects to a sliver at
+    // sx in [0.25 + 0.001/6, 0.25 + 0.001/2], 3.3e-4 px right of column 2's centres, whose rays
+    // run parallel to the plane: its depth along them is infinite, not out of range.
+    Scene s = scene_of({0.501f, -4, -2, 0.501f, 4, -2, 1.501f, 0, -6});
+    Referee ref(s, axis_camera(), 4, 4);
+    TriangleAtSample c = ref.classify(0, 2, 1);
+    CHECK(c.cls == SampleClass::Ambiguous);
+    CHECK(c.depth >= 2);
+    CHECK(c.depth <= 6);
+    CHECK(ref.judge(2, 1, 0).acceptable());
+    CHECK(ref.reference(2, 1) == background_id);
+    CHECK(ref.judge(3, 1, 0).error == AnswerError::Coverage);
+}
+
 TEST_CASE("orthographic cameras judge edges and the plane's depth along the ray", "[referee]")
 {
     // The shared edge x = 4.5 runs through the centres of column 4.

@@ -4,12 +4,15 @@
 //
 // At a sample a triangle is *in* when the sample lies more than referee_edge_eps px inside all
 // three projected edges and the view depth of its plane along the sample's primary ray lies in
-// [near, far] by more than referee_depth_rel relative; *out* when it lies more than EPS outside
-// the projection of the triangle's visible part (the triangle clipped to the depth range, which
-// is how a triangle partly behind the eye is judged) or its depth lies outside [near, far] by
-// more than the relative tolerance; *ambiguous* otherwise. A triangle of zero area (exactly, from
-// its float32 vertices) or seen exactly edge-on has no inside: it is ambiguous within EPS of its
-// projected segment and out elsewhere.
+// [near, far] by more than referee_depth_rel relative. It is *out* when the sample lies more than
+// EPS from the projection of the triangle's visible part (the triangle clipped to the depth
+// range with the tolerance: a triangle partly behind the eye is judged by what the eye sees), or
+// lies more than EPS inside its edges while its depth along the ray is outside [near, far] by more
+// than the tolerance. Otherwise it is *ambiguous*: at the depth of its plane along the ray where
+// the ray meets it, else at the depth of the nearest point of its visible part (along a ray that
+// misses a triangle seen almost edge-on, its plane's depth is meaningless). A triangle of zero
+// area (exactly, from its float32 vertices) or seen exactly edge-on has no inside: ambiguous
+// within EPS of its projected segment, out elsewhere.
 #pragma once
 
 #include <clvis/camera.hpp>
