@@ -593,6 +593,38 @@ TEST_CASE("soups of intersecting triangles, and triangles all around the eye, no
     }
 }
 
+TEST_CASE("triangles seen edge-on, in planes through pixel-centre rays, no error", "[device][agree]")
+{
+    // Each triangle lies in a plane through the eye that contains the primary ray of a pixel
+    // centre, near that ray but off it: the ray meets the plane everywhere and the triangle
+    // nowhere. Float rounding makes edge functions of such rays cancel to exactly zero.
+    Device device = Device::open();
+    Tally tally;
+    Random rng(41);
+    const int w = 64, h = 48;
+    for (int k = 0; k < 60; ++k) {
+        Vec3 eye{rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
+        Camera cam = Camera::perspective(eye, eye + Vec3{rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3), -1},
+                                         {0, 1, 0}, 60, 1, 50);
+        std::vector<float> v;
+        for (int i = 0; i < 300; ++i) {
+            Ray ray = cam.primary_ray(std::floor(rng.uniform(0, w)) + 0.5, std::floor(rng.uniform(0, h)) + 0.5, w, h);
+            Vec3 d1 = normalize(ray.direction), d2 = normalize(cross(d1, rng.unit()));
+            double size = rng.uniform(0.01, 0.5);
+            Vec3 base = eye + d1 * rng.uniform(3, 8);
+            for (int j = 0; j < 3; ++j) {
+                Vec3 p = base + d2 * (size * (j < 2 ? rng.uniform(0.05, 1) : rng.uniform(-1, 1))) + d1 * rng.uniform(-1, 1);
+                v.insert(v.end(), {float(p.x), float(p.y), float(p.z)});
+            }
+        }
+        Scene s;
+        s.add_mesh(triangles(v, "edge-on"));
+        cam.near = precise_near(s, eye, true, 60, h);
+        Renderer renderer(device, s);
+        agree(renderer, s, "edge-on triangles " + std::to_string(k), cam, w, h, true, true, tally);
+    }
+}
+
 TEST_CASE("surfaces 4e-6 inside or outside near and far, and layers 3e-6 apart", "[device][agree]")
 {
     Device device = Device::open();
