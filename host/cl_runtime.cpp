@@ -370,6 +370,9 @@ cl::CommandQueue Device::Impl::make_queue()
 
 void Device::Impl::check_allocation(std::uint64_t bytes, const std::string& what) const
 {
+    if (bytes > info.global_memory)
+        throw Error(Error::Kind::Limit, what + " needs " + std::to_string(bytes) + " bytes, more than " + info.name +
+                                            "'s memory (" + std::to_string(info.global_memory) + " bytes)");
     if (bytes > info.max_allocation)
         throw Error(Error::Kind::Limit,
                     what + " needs " + std::to_string(bytes) + " bytes, more than the largest buffer " +
