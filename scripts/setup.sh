@@ -10,7 +10,7 @@ packages=(
   # libraries
   libopenimageio-dev openimageio-tools catch2 libcli11-dev nlohmann-json3-dev
   # reference renderers for the benchmark: Embree and Mesa's llvmpipe through EGL
-  libembree-dev libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
+  libembree-dev libegl-dev libopengl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
   # plots
   python3-matplotlib
   # hardening: Oclgrind, clang's sanitizers and libFuzzer, malformed test files
