@@ -158,6 +158,18 @@ static void packet_test_triangle(const packet* p, __global const clvis_bvh_tri* 
     lanes_f u = cx * by - cy * bx;
     lanes_f v = ax * cy - ay * cx;
     lanes_f w = bx * ay - by * ax;
+#ifdef CLVIS_HAVE_DOUBLE
+    /* clvis_intersect_triangle's double-precision recompute, on the lanes where an edge function
+       rounded to zero (rare: one OR of the lanes decides). */
+    lanes_i zero = (u == 0.0f) | (v == 0.0f) | (w == 0.0f);
+    if (or_lanes(zero)) {
+        double16 dax = convert_double16(ax), day = convert_double16(ay), dbx = convert_double16(bx);
+        double16 dby = convert_double16(by), dcx = convert_double16(cx), dcy = convert_double16(cy);
+        u = select(u, convert_float16(dcx * dby - dcy * dbx), zero);
+        v = select(v, convert_float16(dax * dcy - day * dcx), zero);
+        w = select(w, convert_float16(dbx * day - dby * dax), zero);
+    }
+#endif
     /* Not outside: the edge functions do not take both signs. (Masks come only from comparisons,
        never from ~, so every lane is 0 or -1 on every implementation.) */
     lanes_i inside = ((u >= 0.0f) & (v >= 0.0f) & (w >= 0.0f)) | ((u <= 0.0f) & (v <= 0.0f) & (w <= 0.0f));

@@ -10,9 +10,14 @@
 
 #ifdef __OPENCL_C_VERSION__
 #define CLVIS_INFINITY INFINITY
+#ifdef cl_khr_fp64
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+#define CLVIS_HAVE_DOUBLE 1
+#endif
 #else
 #include <limits>
 #define CLVIS_INFINITY (std::numeric_limits<float>::infinity())
+#define CLVIS_HAVE_DOUBLE 1
 #endif
 
 /* Ize's factor 1 + 2 gamma(3), gamma(n) = n u / (1 - n u), u = 2^-24: the far distance of a slab
@@ -75,6 +80,16 @@ static inline int clvis_intersect_triangle(clvis_ray_shear s, clvis_vec3 a, clvi
     float u = cx * by - cy * bx;
     float v = ax * cy - ay * cx;
     float w = bx * ay - by * ax;
+#ifdef CLVIS_HAVE_DOUBLE
+    /* An edge function that rounds to zero may have cancelled a non-zero value (a ray in the
+       plane of a triangle seen edge-on): recompute all three in double, where products of floats
+       are exact and the sign of their difference is right (Woop et al., section 3). */
+    if (u == 0.0f || v == 0.0f || w == 0.0f) {
+        u = (float)((double)cx * (double)by - (double)cy * (double)bx);
+        v = (float)((double)ax * (double)cy - (double)ay * (double)cx);
+        w = (float)((double)bx * (double)ay - (double)by * (double)ax);
+    }
+#endif
     int inside = (u >= 0.0f && v >= 0.0f && w >= 0.0f) || (u <= 0.0f && v <= 0.0f && w <= 0.0f);
     float det = u + v + w;
     float tz = u * (s.sz * akz) + v * (s.sz * bkz) + w * (s.sz * ckz);
