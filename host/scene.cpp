@@ -69,6 +69,11 @@ std::size_t Scene::add_mesh(const float* positions, std::size_t vertex_count, co
 {
     if ((!positions && vertex_count) || (!indices && triangle_count))
         throw Error(Error::Kind::InvalidArgument, "Scene::add_mesh: null array with a non-zero count");
+    // Refuse what ids cannot hold before copying anything.
+    if (triangle_count > max_triangles || std::uint64_t(triangle_count_) + triangle_count > max_triangles)
+        throw Error(Error::Kind::Limit, "mesh '" + name + "': the scene would hold " +
+                                            std::to_string(std::uint64_t(triangle_count_) + triangle_count) +
+                                            " triangles, more than 32-bit ids allow (" + std::to_string(max_triangles) + ")");
     MeshData m;
     m.name = std::move(name);
     m.positions.assign(positions, positions + vertex_count * 3);

@@ -108,3 +108,20 @@ TEST_CASE("new positions keep the vertex count and bump the revision", "[scene]"
     CHECK_THROWS_AS(s.set_positions(0, moved.data(), 3), Error);
     CHECK_THROWS_AS(s.set_positions(1, moved.data(), 4), Error);
 }
+
+TEST_CASE("more triangles than 32-bit ids allow are refused before anything is copied", "[scene]")
+{
+    Scene s;
+    float p[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    std::uint32_t idx[3] = {0, 1, 2};
+    // The count alone decides: the arrays are never read.
+    try {
+        s.add_mesh(p, 3, idx, std::size_t(1) << 32, Mat4::identity(), "huge");
+        FAIL("accepted 2^32 triangles");
+    } catch (const Error& e) {
+        CHECK(e.kind() == Error::Kind::Limit);
+        CHECK(std::string(e.what()).find("32-bit ids") != std::string::npos);
+        CHECK(std::string(e.what()).find("4294967296") != std::string::npos);
+    }
+    CHECK(s.triangle_count() == 0);
+}
