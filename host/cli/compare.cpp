@@ -62,11 +62,21 @@ struct Inputs {
     bool framed = false;
 };
 
+/// An id buffer file, through the image layer.
+HostVisibility read_buffer(const std::string& path)
+{
+#if CLVIS_WITH_IMAGE_IO
+    return read_ids(path);
+#else
+    unusable(path + ": this clvis was built without OpenImageIO (CLVIS_WITH_IMAGE_IO=OFF) and reads no id buffers");
+#endif
+}
+
 Inputs read_inputs(const CLI::App& app, const CompareArgs& args)
 {
     Inputs in;
-    in.a = read_ids(args.first);
-    in.b = read_ids(args.second);
+    in.a = read_buffer(args.first);
+    in.b = read_buffer(args.second);
     if (in.a.width != in.b.width || in.a.height != in.b.height)
         unusable("the buffers differ in size: " + args.first + " is " + std::to_string(in.a.width) + "x" +
                  std::to_string(in.a.height) + ", " + args.second + " " + std::to_string(in.b.width) + "x" +
