@@ -124,7 +124,7 @@ TEST_CASE("focal length and film gate give the field of view", "[camera]")
     CHECK_THROWS_AS(Camera::physical({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 0, 36, 24, FilmFit::Fill, 1, 0.1, 10), Error);
 }
 
-TEST_CASE("the orthographic camera is the limit of a far perspective camera with a narrow view", "[camera]")
+TEST_CASE("the orthographic camera is the limit of a far, narrow perspective camera", "[camera]")
 {
     Vec3 p{0.3, -0.2, 0.1};
     Camera ortho = Camera::orthographic({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 2, 0.1, 100);
@@ -138,7 +138,7 @@ TEST_CASE("the orthographic camera is the limit of a far perspective camera with
     CHECK(ro.x == Approx((0.3 + 1) / 2 * 100));
 }
 
-TEST_CASE("a primary ray through a raster position projects back to it, with t equal to view depth",
+TEST_CASE("a primary ray projects back to its raster position, t equal to view depth",
           "[camera]")
 {
     std::mt19937 rng(11);

@@ -510,7 +510,7 @@ TEST_CASE("degenerate triangles cover nothing and keep the ids of the others", "
     CHECK(ids == std::set<std::uint32_t>{3u, background_id});
 }
 
-TEST_CASE("coincident triangles: the lower id wins whatever the winding", "[device][raster]")
+TEST_CASE("coincident triangles, the lower id wins whatever the winding", "[device][raster]")
 {
     const int w = 48, h = 48;
     std::vector<float> p = {-20.3f, -15.1f, -4, 18.2f, -9.7f, -4, 2.6f, 19.9f, -4};

@@ -104,7 +104,7 @@ TEST_CASE("both sides of a triangle are hit at the same distance", "[ray]")
     CHECK(t1 > 2.0f);
 }
 
-TEST_CASE("the slab test never culls a box that a ray meets, flat boxes and parallel rays included", "[ray]")
+TEST_CASE("the slab test never culls a box a ray meets, flat boxes and parallel rays too", "[ray]")
 {
     // Rays parallel to axes (zero components, +0 and -0) against flat and thick boxes, with the
     // origin inside, outside and exactly in a face plane.

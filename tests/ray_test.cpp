@@ -269,7 +269,7 @@ TEST_CASE("rays aimed exactly at shared edges and vertices of a tessellated plan
     }
 }
 
-TEST_CASE("hand-made cases: near, far, behind, orthographic, ties, degenerate, every pixel written", "[device][ray]")
+TEST_CASE("hand-made cases near, far, behind, ortho, ties, degenerate, every pixel written", "[device][ray]")
 {
     Device d = device();
     Camera front = Camera::perspective({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 60, 0.5, 20);

@@ -163,7 +163,7 @@ TEST_CASE("a renderer reused for a thousand frames with changing cameras does no
     CHECK(after - before < 8 * 1024);
 }
 
-TEST_CASE("a device without 64-bit atomics is refused by the raster path with a clear message",
+TEST_CASE("a device without 64-bit atomics is refused by the raster path, clearly",
           "[device][renderer]")
 {
     // A device of its own whose reported extensions lack the atomics; the ray path still works.

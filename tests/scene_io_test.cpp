@@ -123,7 +123,7 @@ TEST_CASE("OBJ faces in every index form give the same positions and triangles",
     }
 }
 
-TEST_CASE("OBJ groups go into one mesh in file order; lines, points and other statements are skipped", "[io]")
+TEST_CASE("OBJ groups go into one mesh in order, lines, points and the rest skipped", "[io]")
 {
     std::string text = "# comment\nmtllib x.mtl\no first\nv 0 0 0\nv 1 0 0\nv 0 1 0 1.0 0.5 0.5 0.5\n"
                        "usemtl red\ns 1\nf 1 2 3\nl 1 2\np 3\ng second\nv 0 0 1\ncstype bezier\n"
@@ -294,7 +294,7 @@ TEST_CASE("PLY ascii, binary little and big endian give the same mesh", "[io]")
     CHECK(be.positions == a.positions);
 }
 
-TEST_CASE("PLY with CRLF, a stray header line, integer coordinates and vertex_indices loads", "[io]")
+TEST_CASE("PLY with CRLF, a stray header line, integer coordinates, vertex_indices loads", "[io]")
 {
     std::string text = "ply\r\nformat ascii 1.0\r\nCreated by an exporter\r\nelement vertex 3\r\nproperty int x\r\nproperty int y\r\n"
                        "property int z\r\nelement face 1\r\nproperty list uchar uint vertex_indices\r\nend_header\r\n"
