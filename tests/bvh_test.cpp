@@ -79,11 +79,11 @@ std::size_t check_invariants(const Bvh& bvh, const Mesh& m, int max_leaf)
     std::vector<int> seen_slot(n, 0), seen_id(n, 0);
     std::size_t leaves = 0;
     int deepest = 0;
-    std::vector<std::pair<std::uint32_t, int>> todo{{0, 1}};
+    std::vector<std::pair<std::uint32_t, int>> pending{{0, 1}};
     std::vector<int> visited(bvh.nodes.size(), 0);
-    while (!todo.empty()) {
-        auto [i, depth] = todo.back();
-        todo.pop_back();
+    while (!pending.empty()) {
+        auto [i, depth] = pending.back();
+        pending.pop_back();
         if (i >= bvh.nodes.size() || visited[i]++) return failures + 1; // out of range or shared
         const clvis_bvh_node& node = bvh.nodes[i];
         deepest = std::max(deepest, depth);
@@ -107,8 +107,8 @@ std::size_t check_invariants(const Bvh& bvh, const Mesh& m, int max_leaf)
             std::uint32_t a = i + 1, b = node.first;
             if (a >= bvh.nodes.size() || b >= bvh.nodes.size() || b <= a) return failures + 1;
             failures += !box_holds(node, bvh.nodes[a]) + !box_holds(node, bvh.nodes[b]);
-            todo.push_back({a, depth + 1});
-            todo.push_back({b, depth + 1});
+            pending.push_back({a, depth + 1});
+            pending.push_back({b, depth + 1});
         }
     }
     for (std::size_t k = 0; k < n; ++k) failures += (seen_slot[k] != 1) + (seen_id[k] != 1);
@@ -127,10 +127,10 @@ std::size_t check_wide(const Bvh4& wide, const Bvh& bvh)
     std::vector<int> slot_seen(bvh.tris.size(), 0), node_seen(wide.nodes.size(), 0);
     std::size_t leaves = 0;
     int deepest = 0;
-    std::vector<std::pair<std::uint32_t, int>> todo{{0, 1}};
-    while (!todo.empty()) {
-        auto [i, depth] = todo.back();
-        todo.pop_back();
+    std::vector<std::pair<std::uint32_t, int>> pending{{0, 1}};
+    while (!pending.empty()) {
+        auto [i, depth] = pending.back();
+        pending.pop_back();
         if (i >= wide.nodes.size() || node_seen[i]++) return failures + 1;
         deepest = std::max(deepest, depth);
         const clvis_bvh4_node& w = wide.nodes[i];
@@ -160,7 +160,7 @@ std::size_t check_wide(const Bvh4& wide, const Bvh& bvh)
                     failures += !(w.lo_x[k] <= c.lo_x[j] && c.hi_x[j] <= w.hi_x[k] && w.lo_y[k] <= c.lo_y[j] &&
                                   c.hi_y[j] <= w.hi_y[k] && w.lo_z[k] <= c.lo_z[j] && c.hi_z[j] <= w.hi_z[k]);
                 }
-                todo.push_back({w.child[k], depth + 1});
+                pending.push_back({w.child[k], depth + 1});
             }
         }
         failures += used < (bvh.nodes.size() == 1 ? 1 : 2);
