@@ -4,6 +4,7 @@
 // procedural stress scenes built to put samples on shared edges, ties, slivers, huge triangles and
 // extreme depth ranges. Each case prints one line, so a regression shows in the test log.
 #include "catch.hpp"
+#include "test_meshes.hpp"
 
 #include <clvis/clvis.hpp>
 
@@ -292,12 +293,7 @@ MeshData grid(int n, double x0, double y0, double step, double z)
     for (int j = 0; j <= n; ++j)
         for (int i = 0; i <= n; ++i)
             m.positions.insert(m.positions.end(), {float(x0 + i * step), float(y0 + j * step), float(z)});
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            std::uint32_t a = std::uint32_t(j * (n + 1) + i), b = a + 1, c = a + std::uint32_t(n) + 1, d = c + 1;
-            if ((i + j) % 2) m.indices.insert(m.indices.end(), {a, b, d, a, d, c});
-            else m.indices.insert(m.indices.end(), {a, b, c, b, d, c});
-        }
+    test::add_grid_triangles(m, n);
     return m;
 }
 

@@ -3,6 +3,7 @@
 // hit, near/far/behind/orthographic/ties/degenerate cases, axis-parallel rays against flat
 // boxes, determinism, and refits that draw what rebuilds draw.
 #include "catch.hpp"
+#include "test_meshes.hpp"
 
 #include <clvis/clvis.hpp>
 
@@ -35,12 +36,7 @@ MeshData plane_grid(int n, float x0, float y0, float step, float slope_x = 0, fl
             float x = x0 + float(i) * step, y = y0 + float(j) * step;
             m.positions.insert(m.positions.end(), {x, y, slope_x * x + slope_y * y});
         }
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            std::uint32_t a = std::uint32_t(j * (n + 1) + i), b = a + 1, c = a + std::uint32_t(n) + 1, d = c + 1;
-            if ((i + j) % 2) m.indices.insert(m.indices.end(), {a, b, d, a, d, c});
-            else m.indices.insert(m.indices.end(), {a, b, c, b, d, c});
-        }
+    test::add_grid_triangles(m, n);
     return m;
 }
 
