@@ -1,7 +1,5 @@
-// Names of error kinds and the library version.
-#include <clvis/config.hpp>
+// Names of error kinds, for messages and logs.
 #include <clvis/error.hpp>
-#include <clvis/version.hpp>
 
 namespace clvis {
 
@@ -16,7 +14,5 @@ const char* to_string(Error::Kind kind) noexcept
     }
     return "unknown";
 }
-
-std::string version() { return CLVIS_VERSION_STRING; }
 
 } // namespace clvis

@@ -3,7 +3,7 @@
 // degenerate scenes that build quickly, refits that keep the invariants.
 #include "catch.hpp"
 
-#include "bvh_build.hpp"
+#include "ray/bvh_build.hpp"
 
 #include <clvis/clvis.hpp>
 

@@ -2,8 +2,8 @@
 // failures that carry the log, limits refused before allocating, and no platform at all.
 #include "catch.hpp"
 
-#include "cl_runtime.hpp"
-#include "embedded_kernels.hpp"
+#include "runtime/cl_runtime.hpp"
+#include "runtime/embedded_kernels.hpp"
 
 #include <clvis/clvis.hpp>
 

@@ -3,7 +3,7 @@
 // goes through its parser and either gives a valid mesh or scene, or throws clvis::Error.
 #include "catch.hpp"
 
-#include "scene_parsers.hpp"
+#include "scene/scene_parsers.hpp"
 
 #include <clvis/clvis.hpp>
 

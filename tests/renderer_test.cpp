@@ -2,7 +2,7 @@
 // buffers of the caller, updates, threads, and many frames without growth.
 #include "catch.hpp"
 
-#include "cl_runtime.hpp"
+#include "runtime/cl_runtime.hpp"
 
 #include <clvis/clvis.hpp>
 

@@ -3,7 +3,7 @@
 // (file, line or byte) for malformed input, including every assimp test model.
 #include "catch.hpp"
 
-#include "scene_parsers.hpp"
+#include "scene/scene_parsers.hpp"
 
 #include <clvis/clvis.hpp>
 

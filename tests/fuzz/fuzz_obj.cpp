@@ -2,7 +2,7 @@
 // mesh or throw clvis::Error; anything else (a crash, a sanitizer report, another exception, a
 // broken mesh) is a bug. Seeds: tests/fuzz/corpus/obj/.
 #include "fuzz_check.hpp"
-#include "scene_parsers.hpp"
+#include "scene/scene_parsers.hpp"
 
 #include <cstddef>
 #include <cstdint>

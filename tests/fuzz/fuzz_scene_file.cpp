@@ -2,7 +2,7 @@
 // read: a mesh named "bad..." fails as a file would, any other is one triangle, so the fuzzer
 // explores the JSON fields. It must return a scene or throw clvis::Error. Seeds: corpus/scene/.
 #include "fuzz_check.hpp"
-#include "scene_parsers.hpp"
+#include "scene/scene_parsers.hpp"
 
 #include <cstddef>
 #include <cstdint>

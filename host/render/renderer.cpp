@@ -1,7 +1,7 @@
 // The Renderer: uploads the scene once, keeps it (and the BVH) resident, validates each frame's
 // request, dispatches the chosen path and times it. Paths live in raster_pipeline.cpp and
 // ray_pipeline.cpp behind host/pipeline.hpp.
-#include "renderer_impl.hpp"
+#include "render/renderer_impl.hpp"
 
 #include <clvis/renderer.hpp>
 

@@ -1,8 +1,8 @@
 // What every path shares for a frame: the float32 camera for the kernels, the clear of the
 // visibility buffer, and the stage timings from profiling events.
-#include "pipeline.hpp"
+#include "render/pipeline.hpp"
 
-#include "cl_runtime.hpp"
+#include "runtime/cl_runtime.hpp"
 
 #include <algorithm>
 

@@ -2,8 +2,8 @@
 // numeric type), `face` vertex_indices / vertex_index lists fanned (v0, vk, vk+1) in file order,
 // every other element and property skipped by its declared size. Called by load_mesh
 // (host/scene_file.cpp) and by the fuzz target fuzz_ply.
-#include "scene_parsers.hpp"
-#include "text_parse.hpp"
+#include "scene/scene_parsers.hpp"
+#include "scene/text_parse.hpp"
 
 #include <cmath>
 #include <cstdint>

@@ -2,7 +2,7 @@
 // and the translation of OpenCL errors into clvis::Error with the call's and the code's names.
 #pragma once
 
-#include "cl.hpp"
+#include "runtime/cl.hpp"
 
 #include <clvis/device.hpp>
 #include <clvis/error.hpp>

@@ -3,7 +3,7 @@
 // visibility buffer (kernels/shared/visibility.h) and know nothing of each other.
 #pragma once
 
-#include "cl.hpp"
+#include "runtime/cl.hpp"
 
 #include "shared/camera.h"
 

@@ -2,9 +2,9 @@
 // at once and lists the others; raster_bin.cl bins those into tiles (count, scan, fill);
 // raster_fine.cl rasterizes each tile's bin. The host plans every capacity from counts read back
 // during the frame and grows buffers (re-running the stage that overflowed) rather than drop.
-#include "pipeline.hpp"
+#include "render/pipeline.hpp"
 
-#include "cl_runtime.hpp"
+#include "runtime/cl_runtime.hpp"
 
 #include "shared/raster.h"
 

@@ -1,8 +1,8 @@
 // The state behind clvis::Renderer, shared by renderer.cpp and shading.cpp.
 #pragma once
 
-#include "cl_runtime.hpp"
-#include "pipeline.hpp"
+#include "runtime/cl_runtime.hpp"
+#include "render/pipeline.hpp"
 
 #include <clvis/renderer.hpp>
 

@@ -1,10 +1,10 @@
 // The ray path: builds the BVH on the host (bvh_build.cpp), keeps it resident on the device,
 // follows moved vertices by refit or rebuild, and enqueues one trace per frame: ray_trace.cl
 // through the BVH, or ray_brute.cl against every triangle.
-#include "pipeline.hpp"
+#include "render/pipeline.hpp"
 
-#include "bvh_build.hpp"
-#include "cl_runtime.hpp"
+#include "ray/bvh_build.hpp"
+#include "runtime/cl_runtime.hpp"
 
 #include <array>
 #include <chrono>

@@ -1,6 +1,6 @@
 // Shading over a visibility buffer (kernels/shade.cl): the buffer's keys and the renderer's
 // resident scene in, an RGBA8 image out.
-#include "renderer_impl.hpp"
+#include "render/renderer_impl.hpp"
 
 #include <clvis/shading.hpp>
 

@@ -1,5 +1,5 @@
 // Visibility buffers on the device and their read-back, split into ids and depths.
-#include "cl_runtime.hpp"
+#include "runtime/cl_runtime.hpp"
 
 #include "shared/visibility.h"
 

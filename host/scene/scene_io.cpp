@@ -1,7 +1,7 @@
 // Files into scenes: load_mesh reads a whole file and picks a parser (host/scene_obj.cpp,
 // scene_ply.cpp, scene_stl.cpp) by extension, else by content; load_scene_file reads the JSON
 // scene file (meshes, transforms, camera, image size); load_scene puts paths into one Scene.
-#include "scene_parsers.hpp"
+#include "scene/scene_parsers.hpp"
 
 #include <clvis/scene_io.hpp>
 

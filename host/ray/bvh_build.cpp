@@ -3,7 +3,7 @@
 // built on separate threads, each into its own depth-first array, then spliced in order; splits
 // depend only on the triangles (bins merge exactly), so the result does not depend on the threads. Where the SAH cannot split (every centroid in one point) or the tree
 // grows too deep, an object median split takes over, so degenerate scenes terminate quickly.
-#include "bvh_build.hpp"
+#include "ray/bvh_build.hpp"
 
 #include <algorithm>
 #include <cfloat>

@@ -1,9 +1,9 @@
 // OpenCL platforms and devices: listing, selection by spec, wrapping a caller's context, the
 // program cache (in memory, and on disk for drivers that do not cache binaries themselves), and
 // the translation of OpenCL errors into clvis::Error.
-#include "cl_runtime.hpp"
+#include "runtime/cl_runtime.hpp"
 
-#include "embedded_kernels.hpp"
+#include "runtime/embedded_kernels.hpp"
 
 #include <algorithm>
 #include <cctype>
