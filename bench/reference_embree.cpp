@@ -32,11 +32,6 @@ constexpr int work_tile = 16;
 /// Pixels per side of one rtcIntersect16 packet.
 constexpr int packet_side = 4;
 
-double ms_since(std::chrono::steady_clock::time_point t0)
-{
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
 const char* error_name(RTCError e)
 {
     switch (e) {

@@ -57,11 +57,6 @@ void check_gl(const char* what)
     if (e != GL_NO_ERROR) throw std::runtime_error(std::string("gl: ") + what + ": GL error " + hex(e));
 }
 
-double ms_since(std::chrono::steady_clock::time_point t0)
-{
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
 /// Mesa reads LP_NUM_THREADS when the display is first initialised: one display per process,
 /// initialised once and kept (eglTerminate would pull it from under other references).
 EGLDisplay surfaceless_display(int threads)

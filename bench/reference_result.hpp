@@ -3,6 +3,8 @@
 // paths and the references are judged and timed on the same scene and camera.
 #pragma once
 
+#include "bench_stats.hpp"
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -21,17 +23,5 @@ struct ReferenceResult {
 
     bool ok() const { return error.empty(); }
 };
-
-/// Frames a time budget keeps at least (for a median and a spread).
-constexpr int min_budget_frames = 3;
-
-/// True once `frame_ms` holds `repeats` samples, or, with `budget_ms` > 0, at least
-/// min_budget_frames samples whose sum reaches the budget (large scenes stop early).
-bool enough_frames(const std::vector<double>& frame_ms, int repeats, double budget_ms);
-
-/// Median of samples (0 for none).
-double median_of(std::vector<double> samples);
-/// Smallest sample (0 for none).
-double min_of(const std::vector<double>& samples);
 
 } // namespace clvis::bench

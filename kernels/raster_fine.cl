@@ -4,10 +4,7 @@
    keeps the nearest keys in private memory, then merges them with what raster_setup.cl wrote. */
 #include "shared/raster.h"
 
-/* Edge of a work-item's square in pixels (tiles smaller than this make the square the tile);
-   a multiple of the span of clvis_raster_span8. */
-#define CLVIS_FINE_SUB 16
-#define CLVIS_FINE_SPANS (CLVIS_FINE_SUB / 8)
+#define CLVIS_FINE_SPANS (CLVIS_FINE_SUB / 8) /* 8-pixel spans per row of the square */
 
 __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const uint* entries,
                           __global const uint* offsets, int tile_log2, int tiles_x, clvis_camera_gpu cam,

@@ -1,6 +1,6 @@
 /* Casts one primary ray per pixel centre against every triangle of the scene, in id order, with
    the same watertight test as ray_trace.cl but no BVH: the reference the BVH path must equal,
-   and the brute path of host/ray_pipeline.cpp for small scenes. */
+   and the brute path of host/ray/ray_pipeline.cpp for small scenes. */
 #include "shared/camera.h"
 #include "shared/ray.h"
 #include "shared/visibility.h"

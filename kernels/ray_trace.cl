@@ -1,5 +1,5 @@
 /* Casts one primary ray per pixel centre through the BVH (shared/bvh.h) and writes the visibility
-   key of every pixel; launched by host/ray_pipeline.cpp. Each work-item traces a packet of 4x4
+   key of every pixel; launched by host/ray/ray_pipeline.cpp. Each work-item traces a packet of 4x4
    pixels as the 16 lanes of OpenCL vectors (Wald et al., "Interactive rendering with coherent ray
    tracing", 2001): one walk of the 4-wide tree per packet, nearest child first, with a short
    stack; every box and triangle test runs on all 16 rays at once, the same operations as the
@@ -11,9 +11,6 @@
 #include "shared/ray.h"
 #include "shared/visibility.h"
 
-#define CLVIS_PACKET_W 4                                /* pixels */
-#define CLVIS_PACKET_H 4                                /* pixels */
-#define CLVIS_PACKET (CLVIS_PACKET_W * CLVIS_PACKET_H)  /* rays: the lanes of float16 */
 #define CLVIS_RAY_NONE 0xFFFFFFFFu
 
 /* CLVIS_RAY_STACK (entries, at least 3 x the 4-wide tree's depth) is set by the host at build

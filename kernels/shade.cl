@@ -3,11 +3,8 @@
    keys and the scene; knows nothing of which path wrote the keys. Scalar vector math throughout:
    Oclgrind 21.10's uninitialised-value checker crashes on float3 shuffles. */
 #include "shared/camera.h"
+#include "shared/shade.h"
 #include "shared/visibility.h"
-
-#define CLVIS_SHADE_LAMBERT 0
-#define CLVIS_SHADE_DEPTH 1
-#define CLVIS_SHADE_IDS 2
 
 static clvis_vec3 v3(float x, float y, float z) { clvis_vec3 r; r.x = x; r.y = y; r.z = z; return r; }
 static clvis_vec3 load3(__global const float* p, uint v) { return v3(p[3 * v], p[3 * v + 1], p[3 * v + 2]); }

@@ -1,4 +1,4 @@
-// The BVH build (host/bvh_build.cpp) on its own: every triangle in exactly one leaf, boxes that
+// The BVH build (host/ray/bvh_build.cpp) on its own: every triangle in exactly one leaf, boxes that
 // hold what is below them, SAH no worse than a median split, the same bits whatever the threads,
 // degenerate scenes that build quickly, refits that keep the invariants.
 #include "catch.hpp"

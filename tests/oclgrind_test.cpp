@@ -3,6 +3,7 @@
 // every branch; and the buffers must equal PoCL's bit for bit. Run by its own CTest entry
 // ("oclgrind"), which registers Oclgrind beside PoCL and fails on any report.
 #include "catch.hpp"
+#include "test_meshes.hpp"
 
 #include <clvis/clvis.hpp>
 
@@ -12,20 +13,14 @@ using namespace clvis;
 
 namespace {
 
+using test::triangle;
+
 struct Case {
     std::string name;
     Scene scene;
     Camera camera;
     int width, height;
 };
-
-MeshData triangle(float ax, float ay, float az, float bx, float by, float bz, float cx, float cy, float cz)
-{
-    MeshData m;
-    m.positions = {ax, ay, az, bx, by, bz, cx, cy, cz};
-    m.indices = {0, 1, 2};
-    return m;
-}
 
 std::vector<Case> cases()
 {

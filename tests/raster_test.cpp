@@ -4,6 +4,7 @@
 // tiles), a plain double-precision ray-cast reference on small random scenes, closed meshes
 // from outside and inside, and determinism across runs and tile sizes.
 #include "catch.hpp"
+#include "test_meshes.hpp"
 
 #include "shared/raster.h"
 
@@ -21,6 +22,8 @@
 using namespace clvis;
 
 namespace {
+
+using test::look;
 
 Device& device()
 {
@@ -78,13 +81,6 @@ Camera pixel_camera(int w, int h, double near = 0.5, double far = 100)
 std::vector<float> at_raster(double x, double y, int w, int h, double d)
 {
     return {float(x - w / 2.0), float(h / 2.0 - y), float(-d)};
-}
-
-Camera look(Vec3 eye, Vec3 target, double fov, double near, double far)
-{
-    Vec3 f = normalize(target - eye);
-    Vec3 up = std::fabs(f.y) < 0.9 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
-    return Camera::perspective(eye, target, up, fov, near, far);
 }
 
 // ---------------------------------------------------------------------------------------------

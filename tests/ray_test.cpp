@@ -16,15 +16,11 @@ using namespace clvis;
 
 namespace {
 
-Device device() { return Device::open(); }
+using test::triangle;
+using test::covered;
+using test::look;
 
-MeshData triangle(float ax, float ay, float az, float bx, float by, float bz, float cx, float cy, float cz)
-{
-    MeshData m;
-    m.positions = {ax, ay, az, bx, by, bz, cx, cy, cz};
-    m.indices = {0, 1, 2};
-    return m;
-}
+Device device() { return Device::open(); }
 
 /// An n x n grid of quads over [x0, x0 + n*step] x [y0, y0 + n*step], at z = slope_x * x + slope_y * y,
 /// split along alternating diagonals.
@@ -38,13 +34,6 @@ MeshData plane_grid(int n, float x0, float y0, float step, float slope_x = 0, fl
         }
     test::add_grid_triangles(m, n);
     return m;
-}
-
-std::size_t covered(const HostVisibility& v)
-{
-    std::size_t n = 0;
-    for (auto id : v.ids) n += id != background_id;
-    return n;
 }
 
 /// Keys of the BVH path and of the brute path for the same frame.
@@ -66,14 +55,6 @@ Vec3 random_direction(std::mt19937& rng)
     std::normal_distribution<double> g;
     Vec3 v{g(rng), g(rng), g(rng)};
     return normalize(v);
-}
-
-/// A camera at `eye` looking at `target` with an up vector that is never parallel to the view.
-Camera look(Vec3 eye, Vec3 target, double fov, double near, double far)
-{
-    Vec3 f = normalize(target - eye);
-    Vec3 up = std::fabs(f.y) < 0.9 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
-    return Camera::perspective(eye, target, up, fov, near, far);
 }
 
 /// Whether the double-precision ray robustly passes through a triangle of the scene (every

@@ -1,6 +1,7 @@
 // The Renderer's contract beside the paths themselves: arguments refused with the value named,
 // buffers of the caller, updates, threads, and many frames without growth.
 #include "catch.hpp"
+#include "test_meshes.hpp"
 
 #include "runtime/cl_runtime.hpp"
 
@@ -12,6 +13,8 @@
 using namespace clvis;
 
 namespace {
+
+using test::covered;
 
 Scene quad_scene()
 {
@@ -25,13 +28,6 @@ Scene quad_scene()
 }
 
 Camera front() { return Camera::perspective({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 60, 0.1, 10); }
-
-std::size_t covered(const HostVisibility& v)
-{
-    std::size_t n = 0;
-    for (auto id : v.ids) n += id != background_id;
-    return n;
-}
 
 /// Resident set size in KiB (Linux), for the growth check.
 long rss_kib()

@@ -1,8 +1,12 @@
-// Meshes that several test files build by hand.
+// Meshes, cameras and counts that several test files share.
 #pragma once
 
+#include <clvis/camera.hpp>
+#include <clvis/host_visibility.hpp>
 #include <clvis/scene.hpp>
 
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 namespace clvis::test {
@@ -17,6 +21,31 @@ inline void add_grid_triangles(MeshData& m, int n)
             if ((i + j) % 2) m.indices.insert(m.indices.end(), {a, b, d, a, d, c});
             else m.indices.insert(m.indices.end(), {a, b, c, b, d, c});
         }
+}
+
+/// One triangle as a mesh of its own.
+inline MeshData triangle(float ax, float ay, float az, float bx, float by, float bz, float cx, float cy, float cz)
+{
+    MeshData m;
+    m.positions = {ax, ay, az, bx, by, bz, cx, cy, cz};
+    m.indices = {0, 1, 2};
+    return m;
+}
+
+/// Pixels that hold a triangle.
+inline std::size_t covered(const HostVisibility& v)
+{
+    std::size_t n = 0;
+    for (auto id : v.ids) n += id != background_id;
+    return n;
+}
+
+/// A camera at `eye` looking at `target` with an up vector that is never parallel to the view.
+inline Camera look(Vec3 eye, Vec3 target, double fov, double near, double far)
+{
+    Vec3 f = normalize(target - eye);
+    Vec3 up = std::fabs(f.y) < 0.9 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
+    return Camera::perspective(eye, target, up, fov, near, far);
 }
 
 } // namespace clvis::test

@@ -3,6 +3,8 @@
 #include "commands.hpp"
 #include "options.hpp"
 
+#include "bench_stats.hpp"
+
 #include <clvis/clvis.hpp>
 
 #include <nlohmann/json.hpp>
@@ -36,13 +38,6 @@ std::string with_suffix(const std::string& file, const std::string& suffix, bool
     auto slash = file.find_last_of('/');
     if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return file + "-" + suffix;
     return file.substr(0, dot) + "-" + suffix + file.substr(dot);
-}
-
-double median(std::vector<double> v)
-{
-    std::sort(v.begin(), v.end());
-    std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 #if !CLVIS_WITH_IMAGE_IO
@@ -109,6 +104,91 @@ nlohmann::json stages_json(const FrameTiming& t)
     return s;
 }
 
+/// The summary line of one path on standard error.
+std::string path_line(const PathResult& r, int repeat)
+{
+    std::string line = std::string("clvis: ") + to_string(r.path) + ": ";
+    char buf[128];
+    if (repeat > 0)
+        std::snprintf(buf, sizeof buf, "frame %.2f ms min, %.2f ms median of %d after a warm-up",
+                      *std::min_element(r.samples.begin(), r.samples.end()), bench::median_of(r.samples), repeat);
+    else
+        std::snprintf(buf, sizeof buf, "frame %.2f ms (first frame: includes the driver's first-launch "
+                                       "compilation; --repeat N times warm frames)", r.samples[0]);
+    line += buf;
+    for (const auto& st : r.fastest.stages) {
+        std::snprintf(buf, sizeof buf, "; %s %.2f", st.name.c_str(), st.ms);
+        line += buf;
+    }
+    if (r.path == Path::Ray) {
+        std::snprintf(buf, sizeof buf, "; BVH %zu nodes built in %.1f ms", r.bvh.nodes, r.build_ms);
+        line += buf;
+    }
+    return line;
+}
+
+/// The referee's verdict on raster against ray, said on standard error and returned as JSON.
+template <class Say>
+nlohmann::json compare_paths(const SceneFile& file, const Camera& camera, const CameraOptions& cam_opts,
+                             const std::vector<PathResult>& results, Say say)
+{
+    Referee referee(file.scene, camera, cam_opts.width, cam_opts.height);
+    CompareOptions co;
+    co.all = true;
+    CompareReport rep = referee.compare(results[0].vis, results[1].vis, co);
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "clvis: raster vs ray: %zu pixels, %zu equal, %zu explained, %zu errors "
+                                   "(raster %zu, ray %zu)",
+                  rep.pixels, rep.equal, rep.explained, rep.errors, rep.errors_a, rep.errors_b);
+    say(buf);
+    for (const auto& e : rep.first_errors) say("  " + e.describe());
+    return {{"pixels", rep.pixels}, {"equal", rep.equal}, {"explained", rep.explained},
+            {"errors", rep.errors}, {"errors_raster", rep.errors_a}, {"errors_ray", rep.errors_b}};
+}
+
+nlohmann::json path_json(const PathResult& r)
+{
+    return nlohmann::json{{"path", to_string(r.path)},
+                          {"frame_ms", {{"min", *std::min_element(r.samples.begin(), r.samples.end())},
+                                        {"median", bench::median_of(r.samples)},
+                                        {"samples", r.samples}}},
+                          {"stages_ms", stages_json(r.fastest)},
+                          {"build_ms", r.build_ms},
+                          {"bvh_nodes", r.bvh.nodes}};
+}
+
+/// --json: one object on standard output.
+nlohmann::json render_json(const RenderArgs& a, const SceneFile& file, const CameraOptions& cam_opts,
+                           const Camera& camera, const Device& device, double load_ms,
+                           const std::vector<PathResult>& results, const nlohmann::json& compare_json)
+{
+    bool several = results.size() > 1;
+    nlohmann::json j = several ? nlohmann::json{{"path", "all"}} : path_json(results[0]);
+    j["triangles"] = file.scene.triangle_count();
+    j["width"] = cam_opts.width;
+    j["height"] = cam_opts.height;
+    j["device"] = device.info().name;
+    j["load_ms"] = load_ms;
+    j["warm_up"] = a.repeat > 0;
+    j["camera"] = camera.to_flags();
+    if (several) {
+        j["build_ms"] = results[1].build_ms;
+        j["results"] = nlohmann::json::array();
+        for (const auto& r : results) j["results"].push_back(path_json(r));
+        j["compare"] = compare_json;
+    }
+    return j;
+}
+
+RenderOptions render_options(const RenderArgs& a)
+{
+    RenderOptions options;
+    options.tile_size = a.tile;
+    options.cull = a.cull == "back" ? Cull::Back : a.cull == "front" ? Cull::Front : Cull::None;
+    options.bvh.max_leaf_size = a.leaf;
+    return options;
+}
+
 void render_command(const RenderArgs& a)
 {
     double load_ms = 0;
@@ -127,10 +207,6 @@ void render_command(const RenderArgs& a)
     bool several = paths.size() > 1;
 
     Device device = a.device.open();
-    RenderOptions options;
-    options.tile_size = a.tile;
-    options.cull = a.cull == "back" ? Cull::Back : a.cull == "front" ? Cull::Front : Cull::None;
-    options.bvh.max_leaf_size = a.leaf;
     auto say = [&](const std::string& line) {
         if (!a.quiet) std::cerr << line << "\n";
     };
@@ -138,79 +214,17 @@ void render_command(const RenderArgs& a)
         std::to_string(a.scene.files.size()) + " file(s) in " + std::to_string(int(load_ms + 0.5)) + " ms; device " +
         device.info().name);
     if (cam_opts.framed(file.camera)) say("clvis: framing camera: " + camera.to_flags());
-    Renderer renderer(device, file.scene, options);
+    Renderer renderer(device, file.scene, render_options(a));
 
     std::vector<PathResult> results;
     for (Path p : paths) {
         results.push_back(run_path(renderer, camera, a, p, several, several));
-        const PathResult& r = results.back();
-        std::string line = std::string("clvis: ") + to_string(p) + ": ";
-        if (a.repeat > 0) {
-            char buf[128];
-            std::snprintf(buf, sizeof buf, "frame %.2f ms min, %.2f ms median of %d after a warm-up",
-                          *std::min_element(r.samples.begin(), r.samples.end()), median(r.samples), a.repeat);
-            line += buf;
-        } else {
-            char buf[128];
-            std::snprintf(buf, sizeof buf, "frame %.2f ms (first frame: includes the driver's first-launch "
-                                           "compilation; --repeat N times warm frames)", r.samples[0]);
-            line += buf;
-        }
-        for (const auto& st : r.fastest.stages) {
-            char buf[64];
-            std::snprintf(buf, sizeof buf, "; %s %.2f", st.name.c_str(), st.ms);
-            line += buf;
-        }
-        if (p == Path::Ray) {
-            char buf[128];
-            std::snprintf(buf, sizeof buf, "; BVH %zu nodes built in %.1f ms", r.bvh.nodes, r.build_ms);
-            line += buf;
-        }
-        say(line);
+        say(path_line(results.back(), a.repeat));
     }
-
     nlohmann::json compare_json;
-    if (several) {
-        Referee referee(file.scene, camera, cam_opts.width, cam_opts.height);
-        CompareOptions co;
-        co.all = true;
-        CompareReport rep = referee.compare(results[0].vis, results[1].vis, co);
-        char buf[256];
-        std::snprintf(buf, sizeof buf, "clvis: raster vs ray: %zu pixels, %zu equal, %zu explained, %zu errors "
-                                       "(raster %zu, ray %zu)",
-                      rep.pixels, rep.equal, rep.explained, rep.errors, rep.errors_a, rep.errors_b);
-        say(buf);
-        for (const auto& e : rep.first_errors) say("  " + e.describe());
-        compare_json = {{"pixels", rep.pixels}, {"equal", rep.equal}, {"explained", rep.explained},
-                        {"errors", rep.errors}, {"errors_raster", rep.errors_a}, {"errors_ray", rep.errors_b}};
-    }
-
-    if (a.json) {
-        auto one = [&](const PathResult& r) {
-            return nlohmann::json{{"path", to_string(r.path)},
-                                  {"frame_ms", {{"min", *std::min_element(r.samples.begin(), r.samples.end())},
-                                                {"median", median(r.samples)},
-                                                {"samples", r.samples}}},
-                                  {"stages_ms", stages_json(r.fastest)},
-                                  {"build_ms", r.build_ms},
-                                  {"bvh_nodes", r.bvh.nodes}};
-        };
-        nlohmann::json j = several ? nlohmann::json{{"path", "all"}} : one(results[0]);
-        j["triangles"] = file.scene.triangle_count();
-        j["width"] = cam_opts.width;
-        j["height"] = cam_opts.height;
-        j["device"] = device.info().name;
-        j["load_ms"] = load_ms;
-        j["warm_up"] = a.repeat > 0;
-        j["camera"] = camera.to_flags();
-        if (several) {
-            j["build_ms"] = results[1].build_ms;
-            j["results"] = nlohmann::json::array();
-            for (const auto& r : results) j["results"].push_back(one(r));
-            j["compare"] = compare_json;
-        }
-        std::cout << j.dump(2) << "\n";
-    }
+    if (several) compare_json = compare_paths(file, camera, cam_opts, results, say);
+    if (a.json)
+        std::cout << render_json(a, file, cam_opts, camera, device, load_ms, results, compare_json).dump(2) << "\n";
     if (several && compare_json["errors"].get<std::size_t>() > 0)
         throw Error(Error::Kind::InvalidArgument, "the referee rejected pixels of a path (see above)");
 }

@@ -1,6 +1,8 @@
 // Image files through OpenImageIO: id buffers as one UINT32 channel "id" (TIFF or EXR), never
 // through float; depth as one FLOAT channel "Z" (EXR); colour images (PNG, EXR, ...). Row 0 is the
 // top row of every file, as in memory.
+#include "lower_case.hpp"
+
 #include <clvis/error.hpp>
 #include <clvis/image_io.hpp>
 
@@ -17,14 +19,6 @@ namespace {
 [[noreturn]] void io_error(const std::string& path, const std::string& what)
 {
     throw Error(Error::Kind::Io, path + ": " + what);
-}
-
-std::string extension(const std::string& path)
-{
-    auto dot = path.find_last_of('.');
-    std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-    return ext;
 }
 
 void write_channel(const std::string& path, int width, int height, const char* channel, OIIO::TypeDesc type,
@@ -57,8 +51,8 @@ std::unique_ptr<OIIO::ImageInput> open_single_channel(const std::string& path, c
 
 void write_ids(const std::string& path, const HostVisibility& vis)
 {
-    std::string ext = extension(path);
-    if (ext != "tif" && ext != "tiff" && ext != "exr")
+    std::string ext = detail::lower_extension(path);
+    if (ext != ".tif" && ext != ".tiff" && ext != ".exr")
         io_error(path, "id buffers are written as .tif, .tiff or .exr");
     if (vis.ids.size() != std::size_t(vis.width) * std::size_t(vis.height))
         io_error(path, "the id array does not match the image size");
@@ -67,7 +61,7 @@ void write_ids(const std::string& path, const HostVisibility& vis)
 
 void write_depth(const std::string& path, const HostVisibility& vis)
 {
-    if (extension(path) != "exr") io_error(path, "depth buffers are written as .exr");
+    if (detail::lower_extension(path) != ".exr") io_error(path, "depth buffers are written as .exr");
     if (vis.depth.size() != std::size_t(vis.width) * std::size_t(vis.height))
         io_error(path, "the depth array does not match the image size");
     write_channel(path, vis.width, vis.height, "Z", OIIO::TypeDesc::FLOAT, vis.depth.data());

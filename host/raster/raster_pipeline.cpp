@@ -72,8 +72,8 @@ struct RasterPipeline::Impl {
         }
     }
 
-    /// Edge in pixels of the square a work-item of raster_fine.cl owns (CLVIS_FINE_SUB = 16).
-    std::size_t fine_square() const { return std::min<std::size_t>(std::size_t(1) << tile_log2, 16); }
+    /// Edge in pixels of the square a work-item of raster_fine.cl owns.
+    std::size_t fine_square() const { return std::min<std::size_t>(std::size_t(1) << tile_log2, CLVIS_FINE_SUB); }
 
     std::size_t granted(const cl::Kernel& k) const
     {

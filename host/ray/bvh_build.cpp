@@ -5,6 +5,8 @@
 // grows too deep, an object median split takes over, so degenerate scenes terminate quickly.
 #include "ray/bvh_build.hpp"
 
+#include "ray/bvh_box.hpp"
+
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
@@ -16,37 +18,6 @@ namespace clvis::detail {
 namespace {
 
 constexpr float inf = std::numeric_limits<float>::infinity();
-
-/// An axis-aligned box of floats: trivial (arrays of them cost nothing to declare); Box::none()
-/// has lo = +inf, hi = -inf.
-struct Box {
-    float lo[3], hi[3];
-
-    static Box none() { return {{inf, inf, inf}, {-inf, -inf, -inf}}; }
-
-    void grow(const Box& b)
-    {
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = std::min(lo[a], b.lo[a]);
-            hi[a] = std::max(hi[a], b.hi[a]);
-        }
-    }
-    void grow(const float p[3])
-    {
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = std::min(lo[a], p[a]);
-            hi[a] = std::max(hi[a], p[a]);
-        }
-    }
-    bool empty() const { return !(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2]); }
-    /// Half the surface area, in double: float boxes of huge finite coordinates do not overflow.
-    double half_area() const
-    {
-        if (empty()) return 0;
-        double dx = double(hi[0]) - lo[0], dy = double(hi[1]) - lo[1], dz = double(hi[2]) - lo[2];
-        return dx * dy + dy * dz + dz * dx;
-    }
-};
 
 /// One triangle as the build sees it: its box, its centroid (the box's centre) and its id. The
 /// build reorders these themselves (not indices to them), so every pass reads memory in order.
@@ -442,124 +413,13 @@ void refit_bvh(Bvh& bvh, const float* positions, const std::uint32_t* indices)
     bvh.sah_cost = bvh_sah_cost(bvh.nodes);
 }
 
-namespace {
-
-double node_area(const clvis_bvh_node& n)
-{
-    Box b;
-    b.lo[0] = n.lo_x; b.lo[1] = n.lo_y; b.lo[2] = n.lo_z;
-    b.hi[0] = n.hi_x; b.hi[1] = n.hi_y; b.hi[2] = n.hi_z;
-    return b.half_area();
-}
-
-/// Appends the 4-wide node for binary node `n` (interior) and its subtree; returns its depth.
-int collapse(const Bvh& bvh, std::uint32_t n, Bvh4& out)
-{
-    std::uint32_t kids[4] = {n + 1, bvh.nodes[n].first, 0, 0};
-    int count = 2;
-    while (count < 4) {
-        int open = -1;
-        double largest = -1;
-        for (int k = 0; k < count; ++k) {
-            const clvis_bvh_node& c = bvh.nodes[kids[k]];
-            if (c.count == 0 && node_area(c) > largest) {
-                largest = node_area(c);
-                open = k;
-            }
-        }
-        if (open < 0) break;
-        std::uint32_t c = kids[open];
-        // the opened node's children take its slot and the next one, keeping the left-to-right order
-        for (int k = count; k > open + 1; --k) kids[k] = kids[k - 1];
-        kids[open] = c + 1;
-        kids[open + 1] = bvh.nodes[c].first;
-        ++count;
-    }
-    std::size_t self = out.nodes.size();
-    out.nodes.emplace_back();
-    out.source.insert(out.source.end(), {~0u, ~0u, ~0u, ~0u});
-    int depth = 1;
-    for (int k = 0; k < 4; ++k) {
-        clvis_bvh4_node& w = out.nodes[self];
-        if (k >= count) {
-            w.lo_x[k] = w.lo_y[k] = w.lo_z[k] = inf;
-            w.hi_x[k] = w.hi_y[k] = w.hi_z[k] = -inf;
-            w.child[k] = 0;
-            w.count[k] = 0;
-            continue;
-        }
-        const clvis_bvh_node& c = bvh.nodes[kids[k]];
-        out.source[self * 4 + std::size_t(k)] = kids[k];
-        w.lo_x[k] = c.lo_x; w.lo_y[k] = c.lo_y; w.lo_z[k] = c.lo_z;
-        w.hi_x[k] = c.hi_x; w.hi_y[k] = c.hi_y; w.hi_z[k] = c.hi_z;
-        w.count[k] = c.count;
-        if (c.count > 0) {
-            w.child[k] = c.first;
-        } else {
-            std::uint32_t index = std::uint32_t(out.nodes.size());
-            int d = collapse(bvh, kids[k], out); // may move out.nodes: w is not used after this
-            out.nodes[self].child[k] = index;
-            depth = std::max(depth, d + 1);
-        }
-    }
-    return depth;
-}
-
-} // namespace
-
-Bvh4 collapse_bvh4(const Bvh& bvh)
-{
-    Bvh4 out;
-    if (bvh.nodes.empty()) return out;
-    out.nodes.reserve(bvh.nodes.size() / 3 + 1);
-    out.source.reserve(out.nodes.capacity() * 4);
-    const clvis_bvh_node& root = bvh.nodes[0];
-    if (root.count > 0) { // a single leaf: one 4-wide node with one child
-        clvis_bvh4_node w{};
-        for (int k = 0; k < 4; ++k) {
-            w.lo_x[k] = w.lo_y[k] = w.lo_z[k] = inf;
-            w.hi_x[k] = w.hi_y[k] = w.hi_z[k] = -inf;
-        }
-        w.lo_x[0] = root.lo_x; w.lo_y[0] = root.lo_y; w.lo_z[0] = root.lo_z;
-        w.hi_x[0] = root.hi_x; w.hi_y[0] = root.hi_y; w.hi_z[0] = root.hi_z;
-        w.child[0] = root.first;
-        w.count[0] = root.count;
-        out.nodes.push_back(w);
-        out.source = {0, ~0u, ~0u, ~0u};
-        out.depth = 1;
-        return out;
-    }
-    out.depth = collapse(bvh, 0, out);
-    return out;
-}
-
-void refit_bvh4(Bvh4& wide, const Bvh& bvh)
-{
-    for (std::size_t i = 0; i < wide.nodes.size(); ++i) {
-        clvis_bvh4_node& w = wide.nodes[i];
-        for (int k = 0; k < 4; ++k) {
-            std::uint32_t src = wide.source[i * 4 + std::size_t(k)];
-            if (src == ~0u) continue;
-            const clvis_bvh_node& c = bvh.nodes[src];
-            w.lo_x[k] = c.lo_x; w.lo_y[k] = c.lo_y; w.lo_z[k] = c.lo_z;
-            w.hi_x[k] = c.hi_x; w.hi_y[k] = c.hi_y; w.hi_z[k] = c.hi_z;
-        }
-    }
-}
-
 double bvh_sah_cost(const std::vector<clvis_bvh_node>& nodes)
 {
     if (nodes.empty()) return 0;
-    auto area = [](const clvis_bvh_node& n) {
-        Box b;
-        b.lo[0] = n.lo_x; b.lo[1] = n.lo_y; b.lo[2] = n.lo_z;
-        b.hi[0] = n.hi_x; b.hi[1] = n.hi_y; b.hi[2] = n.hi_z;
-        return b.half_area();
-    };
-    double root = area(nodes[0]);
+    double root = node_area(nodes[0]);
     double sum = 0;
     for (const clvis_bvh_node& n : nodes)
-        sum += n.count > 0 ? area(n) * n.count : Builder::traversal_cost * area(n);
+        sum += n.count > 0 ? node_area(n) * n.count : Builder::traversal_cost * node_area(n);
     return root > 0 ? sum / root : double(nodes.size());
 }
 

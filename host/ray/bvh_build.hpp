@@ -5,6 +5,8 @@
 
 #include "shared/bvh.h"
 
+#include <clvis/render_options.hpp>
+
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -16,9 +18,9 @@ enum class BvhSplit {
     Median, ///< object median on the widest centroid axis (a reference for tests)
 };
 
-struct BvhBuildOptions {
-    int max_leaf_size = 4;   ///< triangles per leaf at most, 1..64
-    int sah_bins = 16;       ///< bins per axis, 2..256
+/// The Renderer's BvhOptions (leaf size 1..64, SAH bins 2..256), plus what only the host build
+/// and its tests choose.
+struct BvhBuildOptions : BvhOptions {
     BvhSplit split = BvhSplit::Sah;
     unsigned threads = 0;    ///< worker threads; 0: the machine's hardware threads
 };

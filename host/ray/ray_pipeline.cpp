@@ -6,6 +6,8 @@
 #include "ray/bvh_build.hpp"
 #include "runtime/cl_runtime.hpp"
 
+#include "shared/ray.h"
+
 #include <array>
 #include <chrono>
 
@@ -17,8 +19,8 @@ static_assert(sizeof(clvis_bvh_tri) == 48, "layout shared with kernels/shared/bv
 
 namespace {
 
-/// Pixels per work-item of ray_trace.cl (CLVIS_PACKET_W x CLVIS_PACKET_H): a packet of 16 rays.
-constexpr std::size_t packet_w = 4, packet_h = 4;
+/// Pixels per work-item of ray_trace.cl: a packet of 16 rays.
+constexpr std::size_t packet_w = CLVIS_PACKET_W, packet_h = CLVIS_PACKET_H;
 /// The traversal stack grows in steps of this many entries (each step is one program build).
 constexpr int stack_step = 16;
 
@@ -111,8 +113,7 @@ struct RayPipeline::Impl {
     void rebuild(const Scene& scene, cl::CommandQueue& queue)
     {
         BvhBuildOptions o;
-        o.max_leaf_size = options.bvh.max_leaf_size;
-        o.sah_bins = options.bvh.sah_bins;
+        static_cast<BvhOptions&>(o) = options.bvh;
         auto t0 = std::chrono::steady_clock::now();
         bvh = build_bvh(scene.world_positions().data(), scene.world_indices().data(), scene.triangle_count(), o);
         wide = collapse_bvh4(bvh);

@@ -8,7 +8,8 @@
 #include "shared/camera.h"
 
 #include <clvis/camera.hpp>
-#include <clvis/renderer.hpp>
+#include <clvis/device.hpp>
+#include <clvis/render_options.hpp>
 #include <clvis/scene.hpp>
 
 #include <string>
@@ -42,7 +43,6 @@ private:
 /// One frame's inputs.
 struct Frame {
     cl::CommandQueue queue;
-    const Camera* camera = nullptr;  ///< double-precision camera, validated
     clvis_camera_gpu gpu_camera{};   ///< the same in float32 for the kernels
     cl::Buffer keys;                 ///< width * height keys, row 0 on top
     int width = 0, height = 0;

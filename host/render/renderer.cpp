@@ -1,6 +1,6 @@
 // The Renderer: uploads the scene once, keeps it (and the BVH) resident, validates each frame's
 // request, dispatches the chosen path and times it. Paths live in raster_pipeline.cpp and
-// ray_pipeline.cpp behind host/pipeline.hpp.
+// ray_pipeline.cpp behind render/pipeline.hpp.
 #include "render/renderer_impl.hpp"
 
 #include <clvis/renderer.hpp>
@@ -10,23 +10,6 @@
 namespace clvis {
 
 using namespace detail;
-
-const char* to_string(Path path) noexcept
-{
-    switch (path) {
-    case Path::Raster: return "raster";
-    case Path::Ray: return "ray";
-    case Path::Brute: return "brute";
-    }
-    return "unknown";
-}
-
-Path path_from_string(const std::string& name)
-{
-    for (Path p : {Path::Raster, Path::Ray, Path::Brute})
-        if (name == to_string(p)) return p;
-    throw Error(Error::Kind::InvalidArgument, "unknown path '" + name + "' (raster, ray or brute)");
-}
 
 namespace {
 
@@ -135,11 +118,13 @@ Renderer::Renderer(Device device, const Scene& scene, RenderOptions options) : i
 {
     if (!device) throw Error(Error::Kind::InvalidArgument, "Renderer: empty Device");
     check_options(options);
-    impl_->device = std::move(device);
-    impl_->options = options;
-    impl_->scene = scene;
-    impl_->queue = impl_->dev().make_queue();
-    impl_->upload_all();
+    error_boundary("making a Renderer", [&] {
+        impl_->device = std::move(device);
+        impl_->options = options;
+        impl_->scene = scene;
+        impl_->queue = impl_->dev().make_queue();
+        impl_->upload_all();
+    });
 }
 
 Renderer::~Renderer() = default;
@@ -148,55 +133,68 @@ Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
 void Renderer::prepare(Path path)
 {
-    if (path == Path::Raster) impl_->raster_pipeline();
-    else impl_->ray_pipeline(path == Path::Ray);
+    error_boundary(std::string("preparing the ") + to_string(path) + " path", [&] {
+        if (path == Path::Raster) impl_->raster_pipeline();
+        else impl_->ray_pipeline(path == Path::Ray);
+    });
 }
 
 VisibilityBuffer Renderer::render(const Camera& camera, int width, int height, Path path)
 {
     camera.validate();
-    VisibilityBuffer target(impl_->device, width, height);
-    render(camera, path, target);
-    return target;
+    return error_boundary(std::string("rendering with the ") + to_string(path) + " path", [&] {
+        VisibilityBuffer target(impl_->device, width, height);
+        impl_->render(camera, path, target);
+        return target;
+    });
 }
 
 void Renderer::render(const Camera& camera, Path path, VisibilityBuffer& target)
 {
     camera.validate();
+    error_boundary(std::string("rendering with the ") + to_string(path) + " path",
+                   [&] { impl_->render(camera, path, target); });
+}
+
+void Renderer::Impl::render(const Camera& camera, Path path, VisibilityBuffer& target)
+{
     if (target.empty()) throw Error(Error::Kind::InvalidArgument, "Renderer::render: empty target buffer");
-    if (target.device().context() != impl_->device.context())
+    if (target.device().context() != device.context())
         throw Error(Error::Kind::InvalidArgument, "Renderer::render: the target belongs to another OpenCL context");
-    Impl& m = *impl_;
     Frame frame;
-    frame.queue = m.queue;
-    frame.camera = &camera;
+    frame.queue = queue;
     frame.width = target.width();
     frame.height = target.height();
     frame.gpu_camera = make_gpu_camera(camera, frame.width, frame.height);
     frame.keys = cl::Buffer(target.keys(), true);
-    frame.stages = &m.stages;
+    frame.stages = &stages;
     // Build what the path needs before the clock starts: the frame is only its kernels.
-    if (path == Path::Raster) m.raster_pipeline();
-    else m.ray_pipeline(path == Path::Ray);
+    if (path == Path::Raster) raster_pipeline();
+    else ray_pipeline(path == Path::Ray);
     try {
         auto t0 = std::chrono::steady_clock::now();
-        if (path == Path::Raster) m.raster->render(m.gpu, frame);
-        else m.ray->render(m.gpu, frame, path == Path::Brute);
-        m.queue.finish();
+        if (path == Path::Raster) raster->render(gpu, frame);
+        else ray->render(gpu, frame, path == Path::Brute);
+        queue.finish();
         auto t1 = std::chrono::steady_clock::now();
-        m.last.frame_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
-        m.last.stages = m.stages.collect();
+        last.frame_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+        last.stages = stages.collect();
     } catch (const cl::Error& e) {
-        m.stages.collect();
+        stages.collect();
         throw_cl_error(e, std::string("rendering with the ") + to_string(path) + " path");
     }
 }
 
 void Renderer::update(const Scene& scene)
 {
-    Impl& m = *impl_;
+    error_boundary("updating the Renderer's scene", [&] { impl_->update(scene); });
+}
+
+void Renderer::Impl::update(const Scene& now_scene)
+{
+    Impl& m = *this;
     const auto& old = m.scene.meshes();
-    const auto& now = scene.meshes();
+    const auto& now = now_scene.meshes();
     if (old.size() != now.size())
         throw Error(Error::Kind::InvalidArgument, "Renderer::update: the scene has " + std::to_string(now.size()) +
                                                       " meshes, the renderer " + std::to_string(old.size()) +

@@ -28,6 +28,10 @@ struct Renderer::Impl {
     void upload_positions(std::size_t first_vertex, std::size_t count);
     detail::RayPipeline& ray_pipeline(bool need_bvh);
     detail::RasterPipeline& raster_pipeline();
+    /// One frame of `path` into `target`, for a camera already validated.
+    void render(const Camera& camera, Path path, VisibilityBuffer& target);
+    /// Renderer::update inside its error boundary.
+    void update(const Scene& scene);
 };
 
 namespace detail {

@@ -2,6 +2,8 @@
 // resident scene in, an RGBA8 image out.
 #include "render/renderer_impl.hpp"
 
+#include "shared/shade.h"
+
 #include <clvis/shading.hpp>
 
 namespace clvis {
@@ -18,12 +20,14 @@ Image shade(Renderer& renderer, const VisibilityBuffer& vis, const Camera& camer
     Vec3 light = options.light_direction;
     if (!is_finite(light) || !(length(light) > 0))
         throw Error(Error::Kind::InvalidArgument, "shade: the light direction must be a finite non-zero vector");
-    int mode = options.mode == ShadeMode::Lambert ? 0 : options.mode == ShadeMode::Depth ? 1 : 2;
-    Image image;
-    image.width = vis.width();
-    image.height = vis.height();
-    image.rgba.resize(std::size_t(image.width) * image.height * 4);
-    try {
+    int mode = options.mode == ShadeMode::Lambert ? CLVIS_SHADE_LAMBERT
+               : options.mode == ShadeMode::Depth ? CLVIS_SHADE_DEPTH
+                                                   : CLVIS_SHADE_IDS;
+    return error_boundary("shading a visibility buffer", [&] {
+        Image image;
+        image.width = vis.width();
+        image.height = vis.height();
+        image.rgba.resize(std::size_t(image.width) * image.height * 4);
         cl::Kernel kernel(r.dev().program("shade"), "shade");
         cl::Buffer out(r.dev().context, CL_MEM_WRITE_ONLY, image.rgba.size());
         clvis_camera_gpu g = make_gpu_camera(camera, image.width, image.height);
@@ -43,10 +47,8 @@ Image shade(Renderer& renderer, const VisibilityBuffer& vis, const Camera& camer
                                      cl::NDRange(round_up(image.width, 8), round_up(image.height, 8)),
                                      cl::NDRange(8, 8));
         r.queue.enqueueReadBuffer(out, CL_TRUE, 0, image.rgba.size(), image.rgba.data());
-    } catch (const cl::Error& e) {
-        throw_cl_error(e, "shading a visibility buffer");
-    }
-    return image;
+        return image;
+    });
 }
 
 } // namespace clvis

@@ -9,23 +9,6 @@ namespace clvis {
 
 using detail::throw_cl_error;
 
-static_assert(background_key == CLVIS_BACKGROUND_KEY, "host and kernels agree on the background");
-
-HostVisibility split_keys(const std::uint64_t* keys, int width, int height)
-{
-    HostVisibility v;
-    v.width = width;
-    v.height = height;
-    std::size_t n = std::size_t(width) * std::size_t(height);
-    v.ids.resize(n);
-    v.depth.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        v.ids[i] = clvis_key_id(keys[i]);
-        v.depth[i] = clvis_key_depth(keys[i]);
-    }
-    return v;
-}
-
 namespace {
 
 void check_size(int width, int height)

@@ -8,6 +8,7 @@
 #include <clvis/error.hpp>
 
 #include <map>
+#include <new>
 #include <mutex>
 #include <string>
 
@@ -18,6 +19,20 @@ std::string cl_error_name(cl_int code);
 
 /// Throws Error(Device): "<what>: <CL call> failed with <CL_ERROR_NAME>".
 [[noreturn]] void throw_cl_error(const cl::Error& e, const std::string& what);
+
+/// The error boundary of a public entry: runs `body` and lets clvis::Error through, but turns an
+/// escaping cl::Error into Error(Device) and std::bad_alloc into Error(Limit), both naming `what`
+/// ("preparing the ray path"), so that no OpenCL or allocation exception leaves the library.
+template <class Body> decltype(auto) error_boundary(const std::string& what, Body&& body)
+{
+    try {
+        return body();
+    } catch (const cl::Error& e) {
+        throw_cl_error(e, what);
+    } catch (const std::bad_alloc&) {
+        throw Error(Error::Kind::Limit, what + ": out of host memory");
+    }
+}
 
 } // namespace clvis::detail
 

@@ -1,6 +1,7 @@
 // OpenCL platforms and devices: listing, selection by spec, wrapping a caller's context, the
 // program cache (in memory, and on disk for drivers that do not cache binaries themselves), and
 // the translation of OpenCL errors into clvis::Error.
+#include "lower_case.hpp"
 #include "runtime/cl_runtime.hpp"
 
 #include "runtime/embedded_kernels.hpp"
@@ -175,12 +176,6 @@ std::vector<Candidate> candidates()
     return out;
 }
 
-std::string lower(std::string s)
-{
-    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-    return s;
-}
-
 std::string describe_all(const std::vector<Candidate>& all)
 {
     std::ostringstream os;
@@ -193,7 +188,7 @@ std::string describe_all(const std::vector<Candidate>& all)
 const Candidate& pick(const std::vector<Candidate>& all, const std::string& spec_in)
 {
     if (all.empty()) throw Error(Error::Kind::Device, std::string("no OpenCL device found; ") + no_platform_help);
-    std::string spec = lower(spec_in);
+    std::string spec = lower_case(spec_in);
     if (spec.empty()) {
         for (auto type : {DeviceType::Gpu, DeviceType::Cpu})
             for (const auto& c : all)
@@ -215,8 +210,8 @@ const Candidate& pick(const std::vector<Candidate>& all, const std::string& spec
             throw Error(Error::Kind::Device, "no " + spec + " device; devices:" + describe_all(all));
         }
     for (const auto& c : all)
-        if (lower(c.info.name).find(spec) != std::string::npos ||
-            lower(c.info.platform).find(spec) != std::string::npos)
+        if (lower_case(c.info.name).find(spec) != std::string::npos ||
+            lower_case(c.info.platform).find(spec) != std::string::npos)
             return c;
     throw Error(Error::Kind::Device, "no device matches '" + spec_in + "'; devices:" + describe_all(all));
 }

@@ -91,7 +91,6 @@ void Scene::set_positions(std::size_t mesh, const float* positions, std::size_t 
                                  std::to_string(m.data.vertex_count()));
     check_positions(m.data.name, positions, vertex_count);
     std::copy(positions, positions + vertex_count * 3, m.data.positions.begin());
-    ++m.revision;
     invalidate();
 }
 
@@ -101,7 +100,6 @@ void Scene::set_transform(std::size_t mesh, const Mat4& transform)
         throw Error(Error::Kind::InvalidArgument, "Scene::set_transform: no mesh " + std::to_string(mesh));
     check_transform(meshes_[mesh].data.name, transform);
     meshes_[mesh].transform = transform;
-    ++meshes_[mesh].revision;
     invalidate();
 }
 

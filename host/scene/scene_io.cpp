@@ -1,6 +1,7 @@
-// Files into scenes: load_mesh reads a whole file and picks a parser (host/scene_obj.cpp,
+// Files into scenes: load_mesh reads a whole file and picks a parser (host/scene/scene_obj.cpp,
 // scene_ply.cpp, scene_stl.cpp) by extension, else by content; load_scene_file reads the JSON
 // scene file (meshes, transforms, camera, image size); load_scene puts paths into one Scene.
+#include "lower_case.hpp"
 #include "scene/scene_parsers.hpp"
 
 #include <clvis/scene_io.hpp>
@@ -44,8 +45,7 @@ std::string read_file(const std::string& path)
 
 MeshFormat format_from_extension(const std::string& path)
 {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+    std::string ext = lower_extension(path);
     if (ext == ".obj") return MeshFormat::Obj;
     if (ext == ".ply") return MeshFormat::Ply;
     if (ext == ".stl") return MeshFormat::Stl;
@@ -297,9 +297,7 @@ Scene load_scene(const std::vector<std::string>& paths)
     if (paths.empty()) throw Error(Error::Kind::InvalidArgument, "load_scene: no files given");
     Scene scene;
     for (const std::string& path : paths) {
-        std::string ext = std::filesystem::path(path).extension().string();
-        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
-        if (ext == ".json") {
+        if (detail::lower_extension(path) == ".json") {
             if (paths.size() != 1)
                 throw Error(Error::Kind::InvalidArgument,
                             "load_scene: the scene file " + path + " must be the only path (got " +

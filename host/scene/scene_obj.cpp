@@ -1,6 +1,6 @@
 // Wavefront OBJ from memory into one MeshData: every `v` in order, every `f` fanned
 // (v0, vk, vk+1) in file order whatever group it is in, `l`/`p` and other statements skipped.
-// Called by load_mesh (host/scene_file.cpp) and by the fuzz target fuzz_obj.
+// Called by load_mesh (host/scene/scene_io.cpp) and by the fuzz target fuzz_obj.
 #include "scene/scene_parsers.hpp"
 #include "scene/text_parse.hpp"
 

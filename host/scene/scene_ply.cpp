@@ -1,7 +1,7 @@
 // PLY from memory into one MeshData: the header's elements in order, `vertex` x, y, z (any
 // numeric type), `face` vertex_indices / vertex_index lists fanned (v0, vk, vk+1) in file order,
 // every other element and property skipped by its declared size. Called by load_mesh
-// (host/scene_file.cpp) and by the fuzz target fuzz_ply.
+// (host/scene/scene_io.cpp) and by the fuzz target fuzz_ply.
 #include "scene/scene_parsers.hpp"
 #include "scene/text_parse.hpp"
 

@@ -1,6 +1,6 @@
 // STL from memory into one MeshData, ASCII or binary. Every facet becomes one triangle with
 // three vertices of its own (positions are not welded, so vertex 3i..3i+2 is facet i); ids are
-// facet order, solid after solid. Called by load_mesh (host/scene_file.cpp) and by fuzz_stl.
+// facet order, solid after solid. Called by load_mesh (host/scene/scene_io.cpp) and by fuzz_stl.
 #include "scene/scene_parsers.hpp"
 #include "scene/text_parse.hpp"
 

@@ -6,9 +6,12 @@
 #include <clvis/camera.hpp>
 #include <clvis/device.hpp>
 #include <clvis/error.hpp>
+#include <clvis/host_visibility.hpp>
+#include <clvis/image.hpp>
 #include <clvis/math.hpp>
 #include <clvis/procedural.hpp>
 #include <clvis/referee.hpp>
+#include <clvis/render_options.hpp>
 #include <clvis/renderer.hpp>
 #include <clvis/scene.hpp>
 #include <clvis/scene_io.hpp>

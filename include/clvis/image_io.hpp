@@ -3,8 +3,8 @@
 // in OpenEXR; colour images PNG or EXR. Row 0 is the top row in every file.
 #pragma once
 
-#include <clvis/shading.hpp>
-#include <clvis/visibility.hpp>
+#include <clvis/host_visibility.hpp>
+#include <clvis/image.hpp>
 
 #include <cstdint>
 #include <string>

@@ -17,7 +17,7 @@
 
 #include <clvis/camera.hpp>
 #include <clvis/scene.hpp>
-#include <clvis/visibility.hpp>
+#include <clvis/host_visibility.hpp>
 
 #include <cstdint>
 #include <memory>

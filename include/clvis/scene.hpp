@@ -35,7 +35,6 @@ public:
         MeshData data;
         Mat4 transform;                 ///< object -> world, applied to positions only
         std::uint32_t first_triangle = 0; ///< id of this mesh's first triangle
-        std::uint64_t revision = 0;     ///< bumped on every change of positions or transform
     };
 
     /// Adds a mesh and returns its index. Throws Error(InvalidArgument) naming the mesh and the

@@ -3,11 +3,9 @@
 #pragma once
 
 #include <clvis/camera.hpp>
+#include <clvis/image.hpp>
 #include <clvis/renderer.hpp>
 #include <clvis/visibility.hpp>
-
-#include <cstdint>
-#include <vector>
 
 namespace clvis {
 
@@ -15,12 +13,6 @@ enum class ShadeMode {
     Lambert,   ///< facing ratio / Lambert with a directional light; smooth where normals exist
     Depth,     ///< view depth, near white to far black
     Ids,       ///< a false colour per triangle id
-};
-
-/// An RGBA image of 8-bit channels, row 0 on top.
-struct Image {
-    int width = 0, height = 0;
-    std::vector<std::uint8_t> rgba; ///< 4 bytes per pixel
 };
 
 struct ShadeOptions {

@@ -1,4 +1,4 @@
-/* The BVH as host/bvh_build.cpp builds it and as ray_trace.cl reads it. The build makes a binary
+/* The BVH as host/ray/bvh_build.cpp builds it and as ray_trace.cl reads it. The build makes a binary
    tree of 32-byte nodes in depth-first order (an interior node's left child follows it, the right
    child is named); the kernel reads it collapsed to 4-wide nodes of 128 bytes (each holds its up
    to four children's boxes, SoA, so one visit tests four boxes). The triangles of each leaf are

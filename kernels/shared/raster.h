@@ -303,4 +303,9 @@ static inline int clvis_raster_overlaps(const clvis_raster_tri* t, int i0, int j
     return 1;
 }
 
+/* Edge of the square a work-item of raster_fine.cl owns, in pixels (tiles smaller than this make
+   the square the tile); a multiple of the span of clvis_raster_span8. The host sizes the launch
+   from it. */
+#define CLVIS_FINE_SUB 16
+
 #endif

@@ -144,4 +144,10 @@ static inline int clvis_ray_hits_box(clvis_box_ray r, clvis_vec3 lo, clvis_vec3 
     return t0 <= t1 && t0 <= far_t * CLVIS_IZE_SCALE;
 }
 
+/* The packet a work-item of ray_trace.cl traces: CLVIS_PACKET_W x CLVIS_PACKET_H pixels, one
+   ray per lane of its 16-wide vectors. The host sizes the launch from it. */
+#define CLVIS_PACKET_W 4                                /* pixels */
+#define CLVIS_PACKET_H 4                                /* pixels */
+#define CLVIS_PACKET (CLVIS_PACKET_W * CLVIS_PACKET_H)  /* rays: the lanes of float16 */
+
 #endif

@@ -1,4 +1,4 @@
-// libFuzzer target: parse_ply (host/scene_ply.cpp) on arbitrary bytes. It must return a valid
+// libFuzzer target: parse_ply (host/scene/scene_ply.cpp) on arbitrary bytes. It must return a valid
 // mesh or throw clvis::Error; anything else (a crash, a sanitizer report, another exception, a
 // broken mesh) is a bug. Seeds: tests/fuzz/corpus/ply/.
 #include "fuzz_check.hpp"

@@ -1,4 +1,4 @@
-// libFuzzer target: parse_stl (host/scene_stl.cpp) on arbitrary bytes. It must return a valid
+// libFuzzer target: parse_stl (host/scene/scene_stl.cpp) on arbitrary bytes. It must return a valid
 // mesh or throw clvis::Error; anything else (a crash, a sanitizer report, another exception, a
 // broken mesh) is a bug. Seeds: tests/fuzz/corpus/stl/.
 #include "fuzz_check.hpp"

@@ -1,0 +1,26 @@
+// clvis bench, the driver: plans the sweep (bench_plan), times clvis's paths and the reference
+// renderers on every point and has the referee judge their buffers (bench_run), then writes
+// bench.json, bench.csv, a table and plots (bench_report). `clvis bench` parses its flags into a
+// BenchConfig and calls run_bench. Ratios within one run are what count: the machine is shared.
+#pragma once
+
+#include <clvis/device.hpp>
+
+#include <functional>
+#include <string>
+
+namespace clvis::bench {
+
+struct BenchConfig {
+    bool quick = false;
+    std::string out = "bench-out"; ///< output folder (created)
+    int repeat = 0;      ///< 0: up to 10 timed frames (5 with quick) within a time budget
+    int ref_threads = 2; ///< threads of the reference renderers (trace, raster and build)
+    bool no_plot = false;
+};
+
+/// Runs the whole benchmark into config.out. When `open_device` throws, only the references are
+/// timed (the error is reported); throws Error(Io) when the output cannot be written.
+void run_bench(const BenchConfig& config, const std::function<Device()>& open_device);
+
+} // namespace clvis::bench

@@ -1,0 +1,82 @@
+// The referee's internals, shared by its set-up (referee_setup.cpp: triangles in double
+// precision, binned into tiles) and its judgement (referee.cpp: per sample, per pixel, per buffer).
+#pragma once
+
+#include <clvis/referee.hpp>
+
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace clvis::detail {
+
+constexpr double eps = referee_edge_eps;
+constexpr double rel = referee_depth_rel;
+constexpr double inf = std::numeric_limits<double>::infinity();
+/// Binning tiles, in pixels per side.
+constexpr int tile_log2 = 3;
+constexpr int tile_size = 1 << tile_log2;
+/// A plane through the eye (perspective) or parallel to the view direction (orthographic), to
+/// within this fraction of its size, is edge-on: its projection has no inside.
+constexpr double edge_on_rel = 1e-12;
+/// Most vertices of a triangle clipped by two parallel planes.
+constexpr int max_poly = 5;
+/// A triangle touching more than this share of the tiles is tested at every pixel instead of
+/// binned: a few hundred screen-filling triangles would otherwise fill gigabytes of tile lists.
+constexpr double everywhere_share = 0.25;
+
+/// a x + b y + c over raster positions.
+struct Linear {
+    double a = 0, b = 0, c = 0;
+    double at(double x, double y) const { return a * x + b * y + c; }
+};
+
+/// A triangle set up for one camera and image size.
+struct Triangle {
+    Linear edge[3];     ///< signed distance in px, positive inside (orientation folded in)
+    Linear det, num;    ///< view depth of the plane along the primary ray = num / det
+    bool flat = false;  ///< zero area or edge-on: no inside
+    int n = 0;          ///< vertices of the visible part (0: nothing in the depth range)
+    double px[max_poly], py[max_poly], pd[max_poly]; ///< its raster position and view depth
+    double lo_x = inf, lo_y = inf, hi_x = -inf, hi_y = -inf; ///< EPS-expanded raster bounds
+};
+
+} // namespace clvis::detail
+
+namespace clvis {
+
+struct Referee::Impl {
+    Camera camera;
+    int width = 0, height = 0;
+    bool perspective = true;
+    double near_lo = 0, near_in = 0, far_in = 0, far_hi = 0; ///< depth range with tolerances
+    std::vector<detail::Triangle> tris;
+    int tiles_x = 0, tiles_y = 0;
+    std::vector<std::uint32_t> tile_start; ///< tiles_x * tiles_y + 1 offsets into tile_tris
+    std::vector<std::uint32_t> tile_tris;  ///< triangle ids per tile, ascending
+    std::vector<std::uint32_t> everywhere; ///< ids of triangles too large to bin, ascending
+
+    /// What the nearest robustly covering triangle is at a sample.
+    struct Nearest {
+        std::uint32_t id = background_id;
+        double depth = detail::inf;
+    };
+
+    void setup(const Scene& scene);
+    void setup_triangle(detail::Triangle& t, const Vec3 world[3], const Vec3 cam[3]) const;
+    void bin();
+    TriangleAtSample classify(const detail::Triangle& t, double x, double y) const;
+    TriangleAtSample classify_id(std::uint32_t id, int x, int y) const
+    {
+        return classify(tris[id], x + 0.5, y + 0.5);
+    }
+    template <class Fn> void for_candidates(int x, int y, Fn fn) const;
+    Nearest nearest(int x, int y) const;
+    PixelVerdict judge(int x, int y, std::uint32_t id, const Nearest& n) const;
+    template <class RowFn> CompareReport by_rows(std::size_t max_reported, RowFn row) const;
+    /// A screen-space linear function k.x sx + k.y sy + k.z as a function of raster (x, y).
+    detail::Linear to_raster(double kx, double ky, double k0) const;
+    void project(Vec3 cam, double* x, double* y) const;
+};
+
+} // namespace clvis

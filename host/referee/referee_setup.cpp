@@ -1,0 +1,200 @@
+// The referee's set-up for one camera and image size: each triangle in double precision from the
+// scene's float32 vertices (edge functions in raster pixels, the depth of its plane along primary
+// rays, its visible part clipped to the depth range and projected), then binned into pixel tiles.
+#include "referee/referee_impl.hpp"
+
+#include <clvis/error.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace clvis {
+
+using namespace detail;
+
+namespace {
+
+/// a * b == c * d exactly (fma recovers the rounding error of each product).
+bool products_equal(double a, double b, double c, double d)
+{
+    double p = a * b, q = c * d;
+    return p == q && std::fma(a, b, -p) == std::fma(c, d, -q);
+}
+
+/// The float32 triangle has zero area: its edge vectors (exact in double for all but extreme
+/// exponent gaps) are parallel.
+bool zero_area(Vec3 p0, Vec3 p1, Vec3 p2)
+{
+    Vec3 e1 = p1 - p0, e2 = p2 - p0;
+    return products_equal(e1.y, e2.z, e1.z, e2.y) && products_equal(e1.z, e2.x, e1.x, e2.z) &&
+           products_equal(e1.x, e2.y, e1.y, e2.x);
+}
+
+} // namespace
+
+Linear Referee::Impl::to_raster(double kx, double ky, double k0) const
+{
+    // sx = (2x/W - 1) right, sy = (1 - 2y/H) top.
+    Canvas cv = camera.canvas(double(width) / height);
+    return {kx * 2 * cv.right / width, -ky * 2 * cv.top / height, -kx * cv.right + ky * cv.top + k0};
+}
+
+void Referee::Impl::project(Vec3 p, double* x, double* y) const
+{
+    Vec3 r = camera.camera_to_raster(p, width, height);
+    *x = r.x;
+    *y = r.y;
+}
+
+void Referee::Impl::setup(const Scene& scene)
+{
+    perspective = camera.projection == Projection::Perspective;
+    near_lo = camera.near * (1 - rel);
+    near_in = camera.near * (1 + rel);
+    far_in = camera.far * (1 - rel);
+    far_hi = camera.far * (1 + rel);
+
+    const std::vector<float>& pos = scene.world_positions();
+    const std::vector<std::uint32_t>& idx = scene.world_indices();
+    CameraFrame fr = camera.frame();
+    std::vector<Vec3> cam(pos.size() / 3);
+    for (std::size_t v = 0; v < cam.size(); ++v) {
+        Vec3 d = Vec3{pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]} - camera.eye;
+        cam[v] = {dot(d, fr.r), dot(d, fr.u), -dot(d, fr.f)}; // Camera::to_camera
+    }
+    tris.resize(idx.size() / 3);
+    for (std::size_t i = 0; i < tris.size(); ++i) {
+        Vec3 w[3], c[3];
+        for (int k = 0; k < 3; ++k) {
+            std::uint32_t v = idx[3 * i + k];
+            w[k] = {pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]};
+            c[k] = cam[v];
+        }
+        setup_triangle(tris[i], w, c);
+    }
+    bin();
+}
+
+void Referee::Impl::setup_triangle(Triangle& t, const Vec3 world[3], const Vec3 p[3]) const
+{
+    Vec3 nc = cross(p[1] - p[0], p[2] - p[0]);
+    double nlen = length(nc);
+    // Scaled barycentrics of the ray's hit, edge by edge: dot(D, cross(Pa - O, Pb - O)), with
+    // D = (sx, sy, -1), O = 0 (perspective) or D = (0, 0, -1), O = (sx, sy, 0) (orthographic).
+    // Their sum is det = dot(D, nc), and the ray's t (its view depth) is num / det.
+    double sign = 0;
+    if (perspective) {
+        double num0 = dot(p[0], nc);
+        t.flat = !(std::fabs(num0) > edge_on_rel * length(p[0]) * nlen);
+        sign = num0 > 0 ? 1 : -1; // a visible hit has t > 0: det takes the sign of num
+        t.det = to_raster(nc.x, nc.y, -nc.z);
+        t.num = {0, 0, num0};
+    } else {
+        t.flat = !(std::fabs(nc.z) > edge_on_rel * nlen);
+        sign = -nc.z > 0 ? 1 : -1;
+        t.det = {0, 0, -nc.z};
+        t.num = to_raster(-nc.x, -nc.y, dot(p[0], nc));
+    }
+    if (zero_area(world[0], world[1], world[2])) t.flat = true;
+    for (int k = 0; k < 3; ++k) {
+        Vec3 a = p[k], b = p[(k + 1) % 3];
+        Linear e;
+        if (perspective) {
+            Vec3 n = cross(a, b);
+            e = to_raster(n.x, n.y, -n.z);
+        } else {
+            e = to_raster(b.y - a.y, a.x - b.x, -(a.x * b.y - a.y * b.x));
+        }
+        double g = std::hypot(e.a, e.b);
+        if (g > 0) {
+            e = {sign * e.a / g, sign * e.b / g, sign * e.c / g};
+        } else {
+            // The edge lies in the eye's plane: its projection is at infinity (or the edge
+            // passes through the eye, and the triangle is edge-on).
+            double c = sign * e.c;
+            e = {0, 0, c > 0 ? inf : c < 0 ? -inf : 0};
+        }
+        t.edge[k] = e;
+    }
+
+    // The visible part: the triangle clipped to the depth range (tolerance included), in
+    // camera space, then projected. Nothing is projected through the eye: near > 0.
+    Vec3 poly[max_poly + 2], next[max_poly + 2];
+    int n = 3;
+    for (int k = 0; k < 3; ++k) poly[k] = p[k];
+    for (int plane = 0; plane < 2 && n > 0; ++plane) {
+        auto inside = [&](Vec3 q) { return plane == 0 ? -q.z - near_lo : far_hi + q.z; };
+        int m = 0;
+        for (int k = 0; k < n; ++k) {
+            Vec3 a = poly[k], b = poly[(k + 1) % n];
+            double fa = inside(a), fb = inside(b);
+            if (fa >= 0) next[m++] = a;
+            if ((fa >= 0) != (fb >= 0)) next[m++] = a + (b - a) * (fa / (fa - fb));
+        }
+        n = m;
+        std::copy(next, next + m, poly);
+    }
+    t.n = n;
+    for (int k = 0; k < n; ++k) {
+        project(poly[k], &t.px[k], &t.py[k]);
+        t.pd[k] = -poly[k].z;
+        t.lo_x = std::fmin(t.lo_x, t.px[k]);
+        t.hi_x = std::fmax(t.hi_x, t.px[k]);
+        t.lo_y = std::fmin(t.lo_y, t.py[k]);
+        t.hi_y = std::fmax(t.hi_y, t.py[k]);
+    }
+    if (n > 0) {
+        // EPS, plus room for the rounding of the set-up itself.
+        double mx = eps + 1e-9 * std::fmax(1.0, std::fmax(std::fabs(t.lo_x), std::fabs(t.hi_x)));
+        double my = eps + 1e-9 * std::fmax(1.0, std::fmax(std::fabs(t.lo_y), std::fabs(t.hi_y)));
+        t.lo_x -= mx;
+        t.hi_x += mx;
+        t.lo_y -= my;
+        t.hi_y += my;
+    }
+}
+
+void Referee::Impl::bin()
+{
+    tiles_x = (width + tile_size - 1) / tile_size;
+    tiles_y = (height + tile_size - 1) / tile_size;
+    // Pixel i's centre is i + 0.5: the pixels whose centres lie in [lo, hi], as tile ranges.
+    auto range = [](double lo, double hi, int size, int* first, int* last) {
+        double f = std::ceil(lo - 0.5), l = std::floor(hi - 0.5);
+        if (!(f <= l) || l < 0 || f > size - 1) return false;
+        *first = int(std::fmax(f, 0.0)) >> tile_log2;
+        *last = int(std::fmin(l, double(size - 1))) >> tile_log2;
+        return true;
+    };
+    std::size_t tiles = std::size_t(tiles_x) * tiles_y;
+    std::vector<std::uint32_t> count(tiles + 1, 0);
+    auto visit = [&](auto fn) {
+        for (std::size_t i = 0; i < tris.size(); ++i) {
+            const Triangle& t = tris[i];
+            int x0, x1, y0, y1;
+            if (t.n == 0 || !range(t.lo_x, t.hi_x, width, &x0, &x1) || !range(t.lo_y, t.hi_y, height, &y0, &y1))
+                continue;
+            if (double(x1 - x0 + 1) * (y1 - y0 + 1) > everywhere_share * double(tiles) && tiles > 4) {
+                fn(tiles, std::uint32_t(i));
+                continue;
+            }
+            for (int ty = y0; ty <= y1; ++ty)
+                for (int tx = x0; tx <= x1; ++tx) fn(std::size_t(ty) * tiles_x + tx, std::uint32_t(i));
+        }
+    };
+    everywhere.clear();
+    visit([&](std::size_t tile, std::uint32_t id) {
+        if (tile == tiles) everywhere.push_back(id);
+        else ++count[tile + 1];
+    });
+    for (std::size_t k = 1; k < count.size(); ++k) count[k] += count[k - 1];
+    if (count.back() > std::numeric_limits<std::uint32_t>::max())
+        throw Error(Error::Kind::Limit, "referee: too many triangle-tile pairs to index");
+    tile_start = count;
+    tile_tris.resize(count.back());
+    visit([&](std::size_t tile, std::uint32_t id) {
+        if (tile < tiles) tile_tris[count[tile]++] = id;
+    });
+}
+
+} // namespace clvis
