@@ -297,6 +297,9 @@ bool embree_available() noexcept { return true; }
 
 #else // !CLVIS_HAVE_EMBREE
 
+// A deliberate twin of reference_gl.cpp's: each reference ends in the same pair, available() and a stub
+// that reports it was not built, so the driver treats every reference alike.
+
 namespace clvis::bench {
 
 struct EmbreeReference::Impl {};

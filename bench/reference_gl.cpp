@@ -292,6 +292,9 @@ bool gl_available() noexcept { return true; }
 
 #else // !CLVIS_HAVE_GL
 
+// A deliberate twin of reference_embree.cpp's: each reference ends in the same pair, available() and a stub
+// that reports it was not built, so the driver treats every reference alike.
+
 namespace clvis::bench {
 
 struct GlReference::Impl {};

@@ -47,6 +47,13 @@ std::unique_ptr<OIIO::ImageInput> open_single_channel(const std::string& path, c
     return in;
 }
 
+/// Reads the one channel of `in` as `type` into `out` (width x height values) and closes it.
+void read_channel(OIIO::ImageInput& in, const std::string& path, OIIO::TypeDesc type, void* out)
+{
+    if (!in.read_image(0, 0, 0, 1, type, out)) io_error(path, "read failed: " + in.geterror());
+    in.close();
+}
+
 } // namespace
 
 void write_ids(const std::string& path, const HostVisibility& vis)
@@ -78,9 +85,7 @@ HostVisibility read_ids(const std::string& path)
     vis.width = spec.width;
     vis.height = spec.height;
     vis.ids.resize(std::size_t(spec.width) * std::size_t(spec.height));
-    if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT32, vis.ids.data()))
-        io_error(path, "read failed: " + in->geterror());
-    in->close();
+    read_channel(*in, path, OIIO::TypeDesc::UINT32, vis.ids.data());
     return vis;
 }
 
@@ -94,9 +99,7 @@ void read_depth(const std::string& path, HostVisibility& vis)
     vis.width = spec.width;
     vis.height = spec.height;
     vis.depth.resize(std::size_t(spec.width) * std::size_t(spec.height));
-    if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, vis.depth.data()))
-        io_error(path, "read failed: " + in->geterror());
-    in->close();
+    read_channel(*in, path, OIIO::TypeDesc::FLOAT, vis.depth.data());
 }
 
 void write_image(const std::string& path, const Image& image)

@@ -26,25 +26,29 @@ std::string number(double v)
 
 std::string vec(Vec3 v) { return number(v.x) + "," + number(v.y) + "," + number(v.z); }
 
+/// A camera's placement, projection and depth range; the factories add the projection's size.
+Camera placed(Vec3 eye, Vec3 target, Vec3 up, Projection projection, double near, double far)
+{
+    Camera c;
+    c.eye = eye; c.target = target; c.up = up;
+    c.projection = projection;
+    c.near = near; c.far = far;
+    return c;
+}
+
 } // namespace
 
 Camera Camera::perspective(Vec3 eye, Vec3 target, Vec3 up, double fov_y_degrees, double near, double far)
 {
-    Camera c;
-    c.eye = eye; c.target = target; c.up = up;
-    c.projection = Projection::Perspective;
+    Camera c = placed(eye, target, up, Projection::Perspective, near, far);
     c.fov_y = fov_y_degrees;
-    c.near = near; c.far = far;
     return c;
 }
 
 Camera Camera::orthographic(Vec3 eye, Vec3 target, Vec3 up, double height, double near, double far)
 {
-    Camera c;
-    c.eye = eye; c.target = target; c.up = up;
-    c.projection = Projection::Orthographic;
+    Camera c = placed(eye, target, up, Projection::Orthographic, near, far);
     c.ortho_height = height;
-    c.near = near; c.far = far;
     return c;
 }
 

@@ -80,16 +80,34 @@ struct TextCursor {
     }
 };
 
+/// Where a number at c.p starts: past an optional leading '+', or nullptr for "++" and "+-"
+/// (which from_chars would read as a signed number after the '+').
+inline const char* number_start(const TextCursor& c)
+{
+    const char* b = c.p;
+    if (b != c.end && *b == '+') {
+        ++b;
+        if (b != c.end && (*b == '+' || *b == '-')) return nullptr;
+    }
+    return b;
+}
+
+/// Accepts a number read up to `q` when it ends at a blank, a newline, the end, or one of
+/// `stops`: moves c.p to `q` and returns true; otherwise leaves c.p and returns false.
+inline bool end_number(TextCursor& c, const char* q, std::string_view stops)
+{
+    if (q != c.end && !TextCursor::is_blank(*q) && stops.find(*q) == std::string_view::npos) return false;
+    c.p = q;
+    return true;
+}
+
 /// Reads a float at c.p (optional leading '+', decimal or scientific, "inf"/"nan" accepted here
 /// and refused by the caller as non-finite). The number must end at a blank, a newline, the end,
 /// or one of `stops`. Returns false, with c.p unchanged, on anything else.
 inline bool parse_float(TextCursor& c, float& out, std::string_view stops = {})
 {
-    const char* b = c.p;
-    if (b != c.end && *b == '+') {
-        ++b;
-        if (b != c.end && (*b == '+' || *b == '-')) return false;
-    }
+    const char* b = number_start(c);
+    if (!b) return false;
     auto [q, ec] = std::from_chars(b, c.end, out, std::chars_format::general);
     if (ec == std::errc::result_out_of_range) {
         // From_chars leaves out unchanged: overflow reads as infinity, underflow as zero, so the
@@ -102,39 +120,27 @@ inline bool parse_float(TextCursor& c, float& out, std::string_view stops = {})
     } else if (ec != std::errc()) {
         return false;
     }
-    if (q != c.end && !TextCursor::is_blank(*q) && stops.find(*q) == std::string_view::npos) return false;
-    c.p = q;
-    return true;
+    return end_number(c, q, stops);
 }
 
 /// Reads a double like parse_float reads a float (for PLY's double properties).
 inline bool parse_double(TextCursor& c, double& out, std::string_view stops = {})
 {
-    const char* b = c.p;
-    if (b != c.end && *b == '+') {
-        ++b;
-        if (b != c.end && (*b == '+' || *b == '-')) return false;
-    }
+    const char* b = number_start(c);
+    if (!b) return false;
     auto [q, ec] = std::from_chars(b, c.end, out, std::chars_format::general);
     if (ec != std::errc()) return false;
-    if (q != c.end && !TextCursor::is_blank(*q) && stops.find(*q) == std::string_view::npos) return false;
-    c.p = q;
-    return true;
+    return end_number(c, q, stops);
 }
 
 /// Reads a decimal integer (optional sign) that ends like a number of parse_float.
 inline bool parse_int(TextCursor& c, std::int64_t& out, std::string_view stops = {})
 {
-    const char* b = c.p;
-    if (b != c.end && *b == '+') {
-        ++b;
-        if (b != c.end && (*b == '+' || *b == '-')) return false;
-    }
+    const char* b = number_start(c);
+    if (!b) return false;
     auto [q, ec] = std::from_chars(b, c.end, out);
     if (ec != std::errc()) return false;
-    if (q != c.end && !TextCursor::is_blank(*q) && stops.find(*q) == std::string_view::npos) return false;
-    c.p = q;
-    return true;
+    return end_number(c, q, stops);
 }
 
 /// The text at c.p for a message: up to the end of its token, at most 32 characters.
