@@ -1,0 +1,78 @@
+// Conversions between NumPy (or anything numpy.asarray takes) and clvis's plain types: shapes
+// checked with errors naming the argument, one conversion where a dtype or a layout differs, and
+// NumPy arrays over C++ storage without copies.
+#pragma once
+
+#include "bindings.hpp"
+
+#include <array>
+#include <cstdint>
+#include <initializer_list>
+#include <string>
+#include <utility>
+
+namespace clvis::python {
+
+/// What an argument must be: `ndim` dimensions, the last one `cols` long (0: any), of integers
+/// (converted to uint32, each checked to fit) or of numbers (converted to float32/float64).
+struct ArraySpec {
+    const char* what;  ///< e.g. "Scene.add_mesh: positions"
+    const char* shape; ///< e.g. "(V, 3)"
+    int ndim;
+    long cols;
+    bool integer;
+};
+
+/// str(obj), as Python writes it (a dtype, a shape).
+std::string text_of(nb::handle obj);
+
+/// `obj` as a C-contiguous NumPy array of `dtype` ("float32", "uint32", "float64"): the array
+/// itself when it already is one, else one converted copy. Throws Error(InvalidArgument).
+nb::object as_numpy(nb::handle obj, const ArraySpec& spec, const char* dtype);
+
+template <class T>
+using HostArray = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
+
+template <class T>
+HostArray<T> as_host_array(nb::handle obj, const ArraySpec& spec, const char* dtype)
+{
+    return nb::cast<HostArray<T>>(as_numpy(obj, spec, dtype), false);
+}
+
+/// A capsule that keeps a shared object alive for as long as an array refers to it.
+template <class P>
+nb::capsule keep_alive(std::shared_ptr<P> owner)
+{
+    return nb::capsule(new std::shared_ptr<P>(std::move(owner)),
+                       [](void* p) noexcept { delete static_cast<std::shared_ptr<P>*>(p); });
+}
+
+/// A read-only NumPy array over `data` (no copy), kept valid by `owner`.
+template <class T>
+nb::ndarray<nb::numpy, const T> numpy_view(const T* data, std::initializer_list<std::size_t> shape,
+                                           nb::handle owner)
+{
+    return nb::ndarray<nb::numpy, const T>(data, shape, owner);
+}
+
+Vec3 to_vec3(const std::array<double, 3>& v);
+std::array<double, 3> from_vec3(Vec3 v);
+/// A (4, 4) array-like, row by row, applied to column vectors (p' = M p).
+Mat4 to_mat4(nb::handle obj, const char* what);
+nb::ndarray<nb::numpy, double> from_mat4(const Mat4& m);
+
+/// The value of `choices` named `name`; Error(InvalidArgument) listing them otherwise.
+template <class E>
+E parse_choice(const std::string& name, const char* what,
+               std::initializer_list<std::pair<const char*, E>> choices)
+{
+    std::string listed;
+    for (const auto& [key, value] : choices) {
+        if (name == key) return value;
+        listed += (listed.empty() ? "" : ", ") + std::string(key);
+    }
+    throw Error(Error::Kind::InvalidArgument,
+                std::string(what) + ": expected one of " + listed + ", got '" + name + "'");
+}
+
+} // namespace clvis::python

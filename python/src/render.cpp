@@ -1,0 +1,197 @@
+// Rendering from Python: a Renderer keeps a scene on a device; render() answers for a camera by
+// either path and returns a Visibility whose NumPy arrays are views of the one read-back (no
+// further copy), valid on their own after the Visibility and the Renderer are gone.
+#include "arrays.hpp"
+
+#include <nanobind/stl/optional.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
+
+#include <chrono>
+#include <limits>
+
+namespace clvis::python {
+
+namespace {
+
+Path path_named(const std::string& name)
+{
+    return parse_choice<Path>(name, "path", {{"raster", Path::Raster}, {"ray", Path::Ray}, {"brute", Path::Brute}});
+}
+
+RenderOptions render_options(int tile, const std::string& cull, int leaf_size, int sah_bins,
+                             const std::string& bvh_update)
+{
+    RenderOptions o;
+    o.tile_size = tile;
+    o.cull = parse_choice<Cull>(cull, "cull", {{"none", Cull::None}, {"back", Cull::Back}, {"front", Cull::Front}});
+    o.bvh.max_leaf_size = leaf_size;
+    o.bvh.sah_bins = sah_bins;
+    o.bvh.update = parse_choice<BvhUpdate>(bvh_update, "bvh_update",
+                                           {{"refit", BvhUpdate::Refit}, {"rebuild", BvhUpdate::Rebuild}});
+    return o;
+}
+
+/// Renders and reads back once, the GIL released and the renderer locked.
+PyVisibility render(PyRenderer& r, const Camera& camera, int width, int height, const std::string& path_name)
+{
+    PyVisibility out;
+    out.path = path_named(path_name);
+    out.camera = camera;
+    unlocked(r.lock, [&] {
+        out.device = r.renderer.render(camera, width, height, *out.path);
+        *out.host = out.device.read();
+        out.timing = r.renderer.last_frame();
+    });
+    return out;
+}
+
+/// Seconds per call of the same render and read-back as render(), timed in C++ (the overhead
+/// benchmark's baseline: bench/python_overhead.py).
+std::vector<double> time_calls(PyRenderer& r, const Camera& camera, int width, int height,
+                               const std::string& path_name, int repeat)
+{
+    const Path path = path_named(path_name);
+    return unlocked(r.lock, [&] {
+        std::vector<double> seconds;
+        for (int i = 0; i < repeat; ++i) {
+            const auto start = std::chrono::steady_clock::now();
+            VisibilityBuffer vis = r.renderer.render(camera, width, height, path);
+            HostVisibility host = vis.read();
+            seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        }
+        return seconds;
+    });
+}
+
+void bind_timing(nb::module_& m)
+{
+    nb::class_<StageTiming>(m, "StageTiming", "Device time of one pipeline stage.")
+        .def_ro("name", &StageTiming::name)
+        .def_ro("ms", &StageTiming::ms)
+        .def("__repr__", [](const StageTiming& s) { return "<clvis.StageTiming " + s.name + " " + std::to_string(s.ms) + " ms>"; });
+    nb::class_<FrameTiming>(m, "FrameTiming", "Times of one frame: host wall time and device time per stage.")
+        .def_ro("frame_ms", &FrameTiming::frame_ms, "Host wall time from the first enqueue to finish (read-back excluded).")
+        .def_ro("stages", &FrameTiming::stages)
+        .def("__repr__", [](const FrameTiming& t) { return "<clvis.FrameTiming " + std::to_string(t.frame_ms) + " ms>"; });
+    nb::class_<BvhStats>(m, "BvhStats", "The ray path's BVH as last built or refitted.")
+        .def_ro("build_ms", &BvhStats::build_ms)
+        .def_ro("upload_ms", &BvhStats::upload_ms)
+        .def_ro("nodes", &BvhStats::nodes)
+        .def_ro("leaves", &BvhStats::leaves)
+        .def_ro("depth", &BvhStats::depth)
+        .def_ro("sah_cost", &BvhStats::sah_cost)
+        .def_ro("refitted", &BvhStats::refitted);
+}
+
+/// `obj` as an (H, W) array of `dtype` ("uint32" ids, "float32" depths), its size in width and
+/// height (which, when already set, it must match).
+template <class T>
+std::vector<T> image_array(nb::handle obj, const char* what, bool integer, const char* dtype, int& width, int& height)
+{
+    auto a = as_host_array<T>(obj, {what, "(H, W)", 2, 0, integer}, dtype);
+    const auto h = a.shape(0), w = a.shape(1);
+    if (h > std::size_t(std::numeric_limits<int>::max()) || w > std::size_t(std::numeric_limits<int>::max()))
+        throw Error(Error::Kind::Limit, std::string(what) + ": image too large");
+    if (width && (int(w) != width || int(h) != height))
+        throw Error(Error::Kind::InvalidArgument, std::string(what) + ": shape differs from the ids'");
+    width = int(w);
+    height = int(h);
+    return std::vector<T>(a.data(), a.data() + a.size());
+}
+
+void bind_visibility(nb::module_& m)
+{
+    nb::class_<PyVisibility>(m, "Visibility",
+                             "A visibility buffer: per pixel the nearest triangle's id (background_id where none) and its\n"
+                             "view depth (+inf where none), row 0 on top. `ids` and `depth` are read-only NumPy views of\n"
+                             "the one read-back; they stay valid on their own (after the Visibility and the Renderer).\n\n"
+                             "Example:\n    vis = renderer.render(camera, 640, 360)\n    covered = vis.ids != clvis.background_id")
+        .def(
+            "__init__",
+            [](PyVisibility* self, nb::handle ids, nb::handle depth) {
+                PyVisibility v;
+                v.host->ids = image_array<std::uint32_t>(ids, "Visibility: ids", true, "uint32", v.host->width, v.host->height);
+                if (!depth.is_none())
+                    v.host->depth = image_array<float>(depth, "Visibility: depth", false, "float32", v.host->width, v.host->height);
+                if (v.host->width == 0 || v.host->height == 0)
+                    throw Error(Error::Kind::InvalidArgument, "Visibility: an empty image");
+                new (self) PyVisibility(std::move(v));
+            },
+            nb::sig("def __init__(self, ids: numpy.typing.ArrayLike, depth: numpy.typing.ArrayLike | None = None) -> None"),
+            nb::arg("ids"), nb::arg("depth") = nb::none(),
+            "A visibility buffer from (H, W) arrays (copied), e.g. another renderer's, for the Referee or files.")
+        .def_prop_ro("width", [](const PyVisibility& v) { return v.host->width; })
+        .def_prop_ro("height", [](const PyVisibility& v) { return v.host->height; })
+        .def_prop_ro("ids", [](const PyVisibility& v) {
+            const HostVisibility& h = *v.host;
+            return nb::cast(numpy_view(h.ids.data(), {std::size_t(h.height), std::size_t(h.width)}, keep_alive(v.host)));
+        }, "(H, W) uint32, read-only.")
+        .def_prop_ro("depth", [](const PyVisibility& v) -> nb::object {
+            const HostVisibility& h = *v.host;
+            if (h.depth.empty()) return nb::none();
+            return nb::cast(numpy_view(h.depth.data(), {std::size_t(h.height), std::size_t(h.width)}, keep_alive(v.host)));
+        }, "(H, W) float32 view depths, read-only; None for ids read from a file without depths.")
+        .def_prop_ro("camera", [](const PyVisibility& v) { return v.camera; }, "The camera it was rendered with, or None.")
+        .def_prop_ro("path", [](const PyVisibility& v) {
+            return v.path ? std::optional<std::string>(to_string(*v.path)) : std::nullopt;
+        }, "'raster', 'ray' or 'brute'; None when made from arrays or a file.")
+        .def_prop_ro("timing", [](const PyVisibility& v) { return v.timing; })
+        .def("__repr__", [](const PyVisibility& v) {
+            return "<clvis.Visibility " + std::to_string(v.host->width) + "x" + std::to_string(v.host->height) +
+                   (v.path ? std::string(" by ") + to_string(*v.path) : std::string()) + ">";
+        });
+}
+
+const char* renderer_doc =
+    "Keeps a scene (a copy) on a device between frames and answers the visibility question by\n"
+    "rasterization ('raster') or by ray casting through a BVH ('ray'); 'brute' tests every triangle.\n"
+    "Options as the command line names them: tile (raster tile edge, a power of two; 0 the default),\n"
+    "cull ('none', 'back', 'front'), leaf_size and sah_bins (the BVH), bvh_update ('refit', 'rebuild').\n"
+    "Methods release the GIL while the device works; one Renderer serves one call at a time.\n\n"
+    "Example:\n    renderer = clvis.Renderer(clvis.Device('cpu'), scene)\n"
+    "    vis = renderer.render(camera, 640, 360, path='ray')";
+
+} // namespace
+
+void bind_render(nb::module_& m)
+{
+    bind_timing(m);
+    bind_visibility(m);
+    nb::class_<PyRenderer>(m, "Renderer", renderer_doc)
+        .def(
+            "__init__",
+            [](PyRenderer* self, const Device& device, PyScene& scene, int tile, const std::string& cull,
+               int leaf_size, int sah_bins, const std::string& bvh_update) {
+                const RenderOptions o = render_options(tile, cull, leaf_size, sah_bins, bvh_update);
+                unlocked(scene.lock, [&] { new (self) PyRenderer{Renderer(device, scene.scene, o), {}}; });
+            },
+            nb::arg("device"), nb::arg("scene"), nb::kw_only(), nb::arg("tile") = 0, nb::arg("cull") = "none",
+            nb::arg("leaf_size") = 4, nb::arg("sah_bins") = 16, nb::arg("bvh_update") = "refit")
+        .def("render", &render, nb::arg("camera"), nb::arg("width"), nb::arg("height"), nb::arg("path") = "raster",
+             "Renders a width x height Visibility by `path` ('raster', 'ray' or 'brute').")
+        .def(
+            "update",
+            [](PyRenderer& r, PyScene& s) {
+                nb::gil_scoped_release nogil;
+                std::scoped_lock both(r.lock.mutex, s.lock.mutex);
+                r.renderer.update(s.scene);
+            },
+            nb::arg("scene"),
+            "Uploads the meshes of `scene` (the one given at construction, changed since with\n"
+            "set_positions or set_transform) and refits or rebuilds the BVH.")
+        .def(
+            "prepare", [](PyRenderer& r, const std::string& path) {
+                const Path p = path_named(path);
+                unlocked(r.lock, [&] { r.renderer.prepare(p); });
+            },
+            nb::arg("path"), "Builds what `path` needs (kernels, BVH) so that the first render is not charged for it.")
+        .def_prop_ro("last_frame", [](PyRenderer& r) { return unlocked(r.lock, [&] { return r.renderer.last_frame(); }); })
+        .def_prop_ro("bvh_stats", [](PyRenderer& r) { return unlocked(r.lock, [&] { return r.renderer.bvh_stats(); }); })
+        .def_prop_ro("device", [](PyRenderer& r) { return unlocked(r.lock, [&] { return r.renderer.device(); }); })
+        .def("_time_calls", &time_calls, nb::arg("camera"), nb::arg("width"), nb::arg("height"),
+             nb::arg("path") = "raster", nb::arg("repeat") = 100,
+             "Seconds per render and read-back timed in C++: the baseline of bench/python_overhead.py.");
+}
+
+} // namespace clvis::python
