@@ -11,8 +11,8 @@ packages=(
   libopenimageio-dev openimageio-tools catch2 libcli11-dev nlohmann-json3-dev
   # reference renderers for the benchmark: Embree and Mesa's llvmpipe through EGL
   libembree-dev libegl-dev libopengl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
-  # plots
-  python3-matplotlib
+  # plots; the Python package's virtual environment (scripts/python_env.sh)
+  python3-matplotlib python3-numpy python3-venv python3-dev
   # hardening: Oclgrind, clang's sanitizers and libFuzzer, malformed test files
   oclgrind clang libclang-rt-14-dev assimp-testmodels valgrind
 )
@@ -28,3 +28,6 @@ if [ ${#missing[@]} -gt 0 ]; then
   apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 echo "[setup] dependencies present"
+
+# The Python package, installed into .venv at the repository's root.
+bash "$(dirname "$0")/python_env.sh"

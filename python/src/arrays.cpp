@@ -57,7 +57,7 @@ nb::object as_numpy(nb::handle obj, const ArraySpec& spec, const char* dtype)
 
 Vec3 to_vec3(const std::array<double, 3>& v) { return {v[0], v[1], v[2]}; }
 
-std::array<double, 3> from_vec3(Vec3 v) { return {v.x, v.y, v.z}; }
+std::tuple<double, double, double> from_vec3(Vec3 v) { return {v.x, v.y, v.z}; }
 
 Mat4 to_mat4(nb::handle obj, const char* what)
 {

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <initializer_list>
 #include <string>
+#include <tuple>
 #include <utility>
 
 namespace clvis::python {
@@ -56,7 +57,8 @@ nb::ndarray<nb::numpy, const T> numpy_view(const T* data, std::initializer_list<
 }
 
 Vec3 to_vec3(const std::array<double, 3>& v);
-std::array<double, 3> from_vec3(Vec3 v);
+/// A point or a vector as a Python tuple of 3 floats.
+std::tuple<double, double, double> from_vec3(Vec3 v);
 /// A (4, 4) array-like, row by row, applied to column vectors (p' = M p).
 Mat4 to_mat4(nb::handle obj, const char* what);
 nb::ndarray<nb::numpy, double> from_mat4(const Mat4& m);
