@@ -3,6 +3,8 @@
 // message is the C++ one, unchanged.
 #include "bindings.hpp"
 
+#include <nanobind/stl/string.h>
+
 #include <array>
 
 namespace clvis::python {
@@ -57,6 +59,14 @@ void bind_errors(nb::module_& m)
         m.attr(k.name) = cls;
         classes[static_cast<std::size_t>(k.kind)] = cls.release().ptr();
     }
+    m.def(
+        "_raise_error",
+        [](const std::string& kind, const std::string& message) {
+            for (const KindClass& k : kind_classes)
+                if (kind == to_string(k.kind)) throw Error(k.kind, message);
+            throw Error(Error::Kind::InvalidArgument, "_raise_error: no error kind '" + kind + "'");
+        },
+        nb::arg("kind"), nb::arg("message"), "Throws a clvis::Error of `kind` from C++: tests the translation.");
     nb::register_exception_translator([](const std::exception_ptr& p, void*) {
         try {
             std::rethrow_exception(p);

@@ -102,7 +102,7 @@ std::vector<T> image_array(nb::handle obj, const char* what, bool integer, const
 
 void bind_visibility(nb::module_& m)
 {
-    nb::class_<PyVisibility>(m, "Visibility",
+    nb::class_<PyVisibility>(m, "Visibility", nb::is_weak_referenceable(),
                              "A visibility buffer: per pixel the nearest triangle's id (background_id where none) and its\n"
                              "view depth (+inf where none), row 0 on top. `ids` and `depth` are read-only NumPy views of\n"
                              "the one read-back; they stay valid on their own (after the Visibility and the Renderer).\n\n"
@@ -158,7 +158,7 @@ void bind_render(nb::module_& m)
 {
     bind_timing(m);
     bind_visibility(m);
-    nb::class_<PyRenderer>(m, "Renderer", renderer_doc)
+    nb::class_<PyRenderer>(m, "Renderer", nb::is_weak_referenceable(), renderer_doc)
         .def(
             "__init__",
             [](PyRenderer* self, const Device& device, PyScene& scene, int tile, const std::string& cull,

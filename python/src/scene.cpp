@@ -146,7 +146,7 @@ void bind_scene(nb::module_& m)
 {
     bind_mesh(m);
     bind_bounds(m);
-    nb::class_<PyScene> c(m, "Scene",
+    nb::class_<PyScene> c(m, "Scene", nb::is_weak_referenceable(),
                           "Meshes of triangles; triangle ids run mesh after mesh in the order they are added.\n\n"
                           "Example:\n    scene = clvis.Scene()\n    scene.add_mesh(positions, indices)\n"
                           "    camera = clvis.Camera.framing(scene.bounds())");
