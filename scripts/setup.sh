@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs everything clvis needs from Debian 12's packages. Idempotent; run as root.
+# Installs everything clvis needs from Debian 12's packages, then the Python package into .venv
+# (scripts/python_env.sh). Idempotent; run as root.
 set -euo pipefail
 
 packages=(

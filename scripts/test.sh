@@ -2,6 +2,8 @@
 # The whole test suite, as CI runs it (the README's test command runs scripts/setup.sh first):
 #  1. Release build; CTest: host tests, device tests on PoCL's CPU device, the agreement suites,
 #     Oclgrind over every kernel, the installed package built and run by examples/;
+#     then the Python package (reinstalled into .venv) and its pytest suite, the clean-clone
+#     install included;
 #  2. AddressSanitizer + UndefinedBehaviorSanitizer build; the host tests under it;
 #  3. libFuzzer over each scene loader for FUZZ_SECONDS each (default 60).
 set -euo pipefail
@@ -17,6 +19,14 @@ cmake --build build -j "$jobs"
 
 stage "CTest: host, device, agreement, Oclgrind, consumer"
 ctest --test-dir build --output-on-failure -j 1
+
+stage "Python package: pytest (python/tests)"
+bash scripts/python_env.sh
+rc=0
+CLVIS_DEVICE=cpu .venv/bin/python -m pytest -q -p no:cacheprovider python/tests || rc=$?
+# pytest exits 5 when it collected nothing: a suite that silently vanished is a failure too.
+if [ "$rc" -eq 5 ]; then echo "[test] pytest collected no tests in python/tests"; fi
+if [ "$rc" -ne 0 ]; then exit "$rc"; fi
 
 stage "Sanitizer build (ASan + UBSan)"
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCLVIS_SANITIZE=ON \

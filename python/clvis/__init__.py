@@ -10,12 +10,11 @@ Example::
     ray = renderer.render(camera, 640, 360, path="ray")
     print(clvis.Referee(scene, camera, 640, 360).compare(raster, ray))
 
-The compiled module ``clvis._clvis`` holds everything; this package re-exports it. See
-docs/python.md.
+The compiled module ``clvis._clvis`` holds everything (its type stubs: ``_clvis.pyi``); this
+package re-exports its public names. See docs/python.md.
 """
 
 from . import _clvis
-from ._clvis import *  # noqa: F401,F403  (the names are listed in __all__ below)
+from ._clvis import *  # noqa: F401,F403
 
 __version__ = _clvis.__version__
-__all__ = [name for name in dir(_clvis) if not name.startswith("_")]

@@ -2,6 +2,7 @@
 then imported and used with the clone's build folder deleted (the module needs no build tree)."""
 
 import os
+import pathlib
 import shutil
 import subprocess
 import sys
@@ -55,3 +56,18 @@ def test_a_clean_clone_installs_into_a_fresh_virtual_environment(tmp_path):
         assert os.path.isfile(os.path.join(installed, name)), name
     linked = run("ldd", module).stdout
     assert "libclvis" not in linked and "not found" not in linked
+
+
+def test_the_stubs_name_every_public_name_of_the_module():
+    import ast
+
+    import clvis
+
+    stub = pathlib.Path(clvis._clvis.__file__).with_name("_clvis.pyi")
+    tree = ast.parse(stub.read_text())
+    named = {n.name for n in tree.body if isinstance(n, (ast.ClassDef, ast.FunctionDef))}
+    named |= {n.target.id for n in tree.body if isinstance(n, ast.AnnAssign)}
+    public = {name for name in dir(clvis._clvis) if not name.startswith("_")}
+    assert public <= named, public - named
+    assert (stub.parent / "py.typed").is_file()
+    assert {name for name in dir(clvis) if not name.startswith("_")} >= public
