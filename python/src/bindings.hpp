@@ -45,6 +45,7 @@ struct PyVisibility {
     std::optional<Camera> camera;    ///< the camera it was rendered with
     std::optional<Path> path;
     FrameTiming timing;
+    double call_seconds = 0;         ///< render and read-back as timed in C++ (the overhead benchmark)
 };
 
 /// Runs `f` with the GIL released and `lock` held (in that order).

@@ -39,29 +39,13 @@ PyVisibility render(PyRenderer& r, const Camera& camera, int width, int height, 
     out.path = path_named(path_name);
     out.camera = camera;
     unlocked(r.lock, [&] {
+        const auto start = std::chrono::steady_clock::now();
         out.device = r.renderer.render(camera, width, height, *out.path);
         *out.host = out.device.read();
+        out.call_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         out.timing = r.renderer.last_frame();
     });
     return out;
-}
-
-/// Seconds per call of the same render and read-back as render(), timed in C++ (the overhead
-/// benchmark's baseline: bench/python_overhead.py).
-std::vector<double> time_calls(PyRenderer& r, const Camera& camera, int width, int height,
-                               const std::string& path_name, int repeat)
-{
-    const Path path = path_named(path_name);
-    return unlocked(r.lock, [&] {
-        std::vector<double> seconds;
-        for (int i = 0; i < repeat; ++i) {
-            const auto start = std::chrono::steady_clock::now();
-            VisibilityBuffer vis = r.renderer.render(camera, width, height, path);
-            HostVisibility host = vis.read();
-            seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-        }
-        return seconds;
-    });
 }
 
 void bind_timing(nb::module_& m)
@@ -137,6 +121,8 @@ void bind_visibility(nb::module_& m)
             return v.path ? std::optional<std::string>(to_string(*v.path)) : std::nullopt;
         }, "'raster', 'ray' or 'brute'; None when made from arrays or a file.")
         .def_prop_ro("timing", [](const PyVisibility& v) { return v.timing; })
+        .def_prop_ro("_call_seconds", [](const PyVisibility& v) { return v.call_seconds; },
+                     "Seconds of the C++ render and read-back inside render(): bench/python_overhead.py.")
         .def("__repr__", [](const PyVisibility& v) {
             return "<clvis.Visibility " + std::to_string(v.host->width) + "x" + std::to_string(v.host->height) +
                    (v.path ? std::string(" by ") + to_string(*v.path) : std::string()) + ">";
@@ -188,10 +174,7 @@ void bind_render(nb::module_& m)
             nb::arg("path"), "Builds what `path` needs (kernels, BVH) so that the first render is not charged for it.")
         .def_prop_ro("last_frame", [](PyRenderer& r) { return unlocked(r.lock, [&] { return r.renderer.last_frame(); }); })
         .def_prop_ro("bvh_stats", [](PyRenderer& r) { return unlocked(r.lock, [&] { return r.renderer.bvh_stats(); }); })
-        .def_prop_ro("device", [](PyRenderer& r) { return unlocked(r.lock, [&] { return r.renderer.device(); }); })
-        .def("_time_calls", &time_calls, nb::arg("camera"), nb::arg("width"), nb::arg("height"),
-             nb::arg("path") = "raster", nb::arg("repeat") = 100,
-             "Seconds per render and read-back timed in C++: the baseline of bench/python_overhead.py.");
+        .def_prop_ro("device", [](PyRenderer& r) { return unlocked(r.lock, [&] { return r.renderer.device(); }); });
 }
 
 } // namespace clvis::python
