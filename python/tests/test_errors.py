@@ -98,3 +98,16 @@ def test_wrong_types_raise_type_errors(device, quad):
 def test_an_empty_scene_renders_background(device):
     vis = clvis.Renderer(device, clvis.Scene()).render(front_camera(), 8, 8, path="ray")
     assert (vis.ids == clvis.background_id).all() and np.isinf(vis.depth).all()
+
+
+def test_objects_made_without_init_or_initialised_twice_raise_type_errors(device):
+    scene = clvis.Scene()
+    renderer = clvis.Renderer(device, scene)
+    with pytest.raises(TypeError):
+        renderer.__init__(device, scene)
+    with pytest.raises(TypeError):
+        clvis.Visibility.__new__(clvis.Visibility).ids
+    with pytest.raises(TypeError):
+        clvis.Renderer.__new__(clvis.Renderer).render(front_camera(), 8, 8)
+    with pytest.raises(TypeError):
+        clvis.Mesh()
