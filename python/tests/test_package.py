@@ -45,7 +45,7 @@ def test_a_clean_clone_installs_into_a_fresh_virtual_environment(tmp_path):
     except subprocess.CalledProcessError as e:
         sys.stderr.write(e.stdout[-5000:] + e.stderr[-5000:])
         raise
-    shutil.rmtree(clone / "build")
+    shutil.rmtree(clone / "build-python")
 
     env.setdefault("CLVIS_DEVICE", "cpu")
     module = run(python, "-c", USE, cwd=tmp_path, env=env).stdout.strip()
