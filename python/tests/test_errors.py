@@ -103,11 +103,12 @@ def test_an_empty_scene_renders_background(device):
 def test_objects_made_without_init_or_initialised_twice_raise_type_errors(device):
     scene = clvis.Scene()
     renderer = clvis.Renderer(device, scene)
-    with pytest.raises(TypeError):
+    # nanobind also warns (RuntimeWarning) about the instance before it raises.
+    with pytest.warns(RuntimeWarning, match="already-initialized"), pytest.raises(TypeError):
         renderer.__init__(device, scene)
-    with pytest.raises(TypeError):
+    with pytest.warns(RuntimeWarning, match="uninitialized"), pytest.raises(TypeError):
         clvis.Visibility.__new__(clvis.Visibility).ids
-    with pytest.raises(TypeError):
+    with pytest.warns(RuntimeWarning, match="uninitialized"), pytest.raises(TypeError):
         clvis.Renderer.__new__(clvis.Renderer).render(front_camera(), 8, 8)
     with pytest.raises(TypeError):
         clvis.Mesh()
