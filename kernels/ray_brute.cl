@@ -12,7 +12,7 @@ static clvis_vec3 load_vertex(__global const float* positions, uint v)
 }
 
 __kernel void ray_brute(clvis_camera_gpu cam, __global const float* positions, __global const uint* indices,
-                        uint triangle_count, __global ulong* keys)
+                        uint triangle_count, int cull, __global ulong* keys)
 {
     int px = (int)get_global_id(0), py = (int)get_global_id(1);
     if (px >= cam.width || py >= cam.height) return;
@@ -24,7 +24,7 @@ __kernel void ray_brute(clvis_camera_gpu cam, __global const float* positions, _
         size_t i = 3 * (size_t)id;
         float t;
         int hit = clvis_intersect_triangle(ray, load_vertex(positions, indices[i]), load_vertex(positions, indices[i + 1]),
-                                           load_vertex(positions, indices[i + 2]), cam.near_d, cam.far_d, &t);
+                                           load_vertex(positions, indices[i + 2]), cam.near_d, cam.far_d, cull, &t);
         ulong key = clvis_make_key(t, id);
         best = hit && key < best ? key : best;
     }

@@ -106,11 +106,12 @@ static lanes_f permuted(float x, float y, float z, lanes_i k0, lanes_i k1)
     return select(select((lanes_f)(z), (lanes_f)(y), k1), (lanes_f)(x), k0);
 }
 
-/* clvis_intersect_triangle on every lane, keeping each lane's nearest key (t bits, then id). The
+/* clvis_intersect_triangle on every lane (culling by `faces`, CLVIS_CULL_*), keeping each lane's
+   nearest key (t bits, then id). The
    vertices are permuted to each lane's shear axes and the lane's permuted origin subtracted: the
    same single subtraction as the scalar test, whichever comes first. */
 static void packet_test_triangle(const packet* p, __global const clvis_bvh_tri* tri, float near_t, float far_t,
-                                 lanes_u* best_t, lanes_u* best_id)
+                                 int faces, lanes_u* best_t, lanes_u* best_id)
 {
     float vert[9] = {tri->v0_x, tri->v0_y, tri->v0_z, tri->v1_x, tri->v1_y, tri->v1_z, tri->v2_x, tri->v2_y, tri->v2_z};
     lanes_f akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz;
@@ -174,6 +175,8 @@ static void packet_test_triangle(const packet* p, __global const clvis_bvh_tri* 
     lanes_f tz = u * (p->sz * akz) + v * (p->sz * bkz) + w * (p->sz * ckz);
     lanes_f t = tz / det;
     lanes_i hit = inside & (det != 0.0f) & (t >= near_t) & (t <= far_t);
+    if (faces == CLVIS_CULL_BACK) hit &= det > 0.0f; /* clvis_cull_keeps on every lane */
+    else if (faces == CLVIS_CULL_FRONT) hit &= det < 0.0f;
     lanes_u bits = as_uint16(t), id = (lanes_u)(tri->id);
     lanes_i nearer = hit & ((bits < *best_t) | ((bits == *best_t) & (id < *best_id)));
     *best_t = select(*best_t, bits, nearer);
@@ -256,16 +259,17 @@ static void make_packet(clvis_camera_gpu cam, int x0, int y0, packet* out)
 
 /* Tests the triangles of a leaf on every lane. */
 static void packet_test_leaf(const packet* p, __global const clvis_bvh_tri* tris, uint first, uint count,
-                             clvis_camera_gpu cam, lanes_u* best_t, lanes_u* best_id, lanes_f* cull)
+                             clvis_camera_gpu cam, int faces, lanes_u* best_t, lanes_u* best_id, lanes_f* cull)
 {
-    for (uint k = first; k < first + count; ++k) packet_test_triangle(p, tris + k, cam.near_d, cam.far_d, best_t, best_id);
+    for (uint k = first; k < first + count; ++k)
+        packet_test_triangle(p, tris + k, cam.near_d, cam.far_d, faces, best_t, best_id);
     *cull = fmin((lanes_f)(cam.far_d), as_float16(*best_t)) * CLVIS_IZE_SCALE;
 }
 
 /* Stack entries name a child slot, (4-wide node << 2) | slot, so that a popped child is tested
-   again against the hits found since it was pushed. */
+   again against the hits found since it was pushed. `faces` is the cull mode (CLVIS_CULL_*). */
 __kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh4_node* nodes, uint node_count,
-                        __global const clvis_bvh_tri* tris, __global ulong* keys)
+                        __global const clvis_bvh_tri* tris, int faces, __global ulong* keys)
 {
     int x0 = (int)get_global_id(0) * CLVIS_PACKET_W, y0 = (int)get_global_id(1) * CLVIS_PACKET_H;
     if (x0 >= cam.width || y0 >= cam.height) return; /* the launch is rounded up to whole tiles */
@@ -306,7 +310,7 @@ __kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh4_node* no
             if (hits > 0) {
                 for (uint i = hits - 1; i > 0; --i) stack[sp++] = (uint)(nd - nodes) << 2 | order[i];
                 uint k = order[0];
-                if (nd->count[k] > 0) packet_test_leaf(&p, tris, nd->child[k], nd->count[k], cam, &best_t, &best_id, &cull);
+                if (nd->count[k] > 0) packet_test_leaf(&p, tris, nd->child[k], nd->count[k], cam, faces, &best_t, &best_id, &cull);
                 else node = nd->child[k];
             }
         }
@@ -316,7 +320,7 @@ __kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh4_node* no
             __global const clvis_bvh4_node* nd = nodes + (e >> 2);
             uint k = e & 3;
             if (or_lanes(packet_hits_box(&p, nd, (int)k, cam.near_d, cull)) >= 0) continue; /* no lane's sign bit */
-            if (nd->count[k] > 0) packet_test_leaf(&p, tris, nd->child[k], nd->count[k], cam, &best_t, &best_id, &cull);
+            if (nd->count[k] > 0) packet_test_leaf(&p, tris, nd->child[k], nd->count[k], cam, faces, &best_t, &best_id, &cull);
             else node = nd->child[k];
         }
         if (node == CLVIS_RAY_NONE) break;

@@ -14,10 +14,10 @@ namespace {
 clvis_vec3 v3(float x, float y, float z) { return {x, y, z}; }
 
 bool hits(clvis_vec3 o, clvis_vec3 d, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c, float near_t = 0.0f,
-          float far_t = CLVIS_INFINITY, float* t_out = nullptr)
+          float far_t = CLVIS_INFINITY, float* t_out = nullptr, int cull = CLVIS_CULL_NONE)
 {
     float t = 0;
-    bool h = clvis_intersect_triangle(clvis_make_shear(o, d), a, b, c, near_t, far_t, &t) != 0;
+    bool h = clvis_intersect_triangle(clvis_make_shear(o, d), a, b, c, near_t, far_t, cull, &t) != 0;
     if (t_out) *t_out = t;
     return h;
 }
@@ -30,6 +30,39 @@ bool hits_box(clvis_vec3 o, clvis_vec3 d, clvis_vec3 lo, clvis_vec3 hi, float ne
 }
 
 } // namespace
+
+TEST_CASE("culling keeps the faces whose normal points against the ray, any ray axis", "[ray]")
+{
+    // A triangle around the point p, with normal n = cross(b - a, c - a) along each axis sign,
+    // hit from the side n points to (front) and from behind (back).
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-0.3f, 0.3f);
+    for (int axis = 0; axis < 3; ++axis) {
+        for (float sign : {1.0f, -1.0f}) {
+            float n[3] = {0, 0, 0};
+            n[axis] = sign;
+            clvis_vec3 e1 = v3(n[1] + n[2], n[2] + n[0], n[0] + n[1]); // perpendicular to n
+            clvis_vec3 nn = v3(n[0], n[1], n[2]);
+            clvis_vec3 e2 = v3(nn.y * e1.z - nn.z * e1.y, nn.z * e1.x - nn.x * e1.z, nn.x * e1.y - nn.y * e1.x);
+            // (a, b, c) = (-e1 - e2, e1 - e2, e2): cross(b - a, c - a) = cross(2 e1, e1 + 2 e2) ~ +n
+            clvis_vec3 a = v3(-e1.x - e2.x, -e1.y - e2.y, -e1.z - e2.z);
+            clvis_vec3 b = v3(e1.x - e2.x, e1.y - e2.y, e1.z - e2.z);
+            for (int trial = 0; trial < 50; ++trial) {
+                clvis_vec3 o = v3(4 * nn.x + u(rng), 4 * nn.y + u(rng), 4 * nn.z + u(rng)); // in front
+                clvis_vec3 d = v3(u(rng) / 3 - o.x, u(rng) / 3 - o.y, u(rng) / 3 - o.z); // to near the centre
+                INFO("axis " << axis << " sign " << sign << " trial " << trial);
+                CHECK(hits(o, d, a, b, e2, 0.0f, CLVIS_INFINITY, nullptr, CLVIS_CULL_BACK));
+                CHECK(!hits(o, d, a, b, e2, 0.0f, CLVIS_INFINITY, nullptr, CLVIS_CULL_FRONT));
+                CHECK(hits(o, d, a, b, e2, 0.0f, CLVIS_INFINITY, nullptr, CLVIS_CULL_NONE));
+                clvis_vec3 ob = v3(-o.x, -o.y, -o.z), db = v3(-d.x, -d.y, -d.z); // from behind
+                CHECK(!hits(ob, db, a, b, e2, 0.0f, CLVIS_INFINITY, nullptr, CLVIS_CULL_BACK));
+                CHECK(hits(ob, db, a, b, e2, 0.0f, CLVIS_INFINITY, nullptr, CLVIS_CULL_FRONT));
+                // the same triangle wound the other way swaps front and back
+                CHECK(!hits(o, d, a, e2, b, 0.0f, CLVIS_INFINITY, nullptr, CLVIS_CULL_BACK));
+            }
+        }
+    }
+}
 
 TEST_CASE("rays through shared edges and vertices of a fan hit at least one triangle", "[ray]")
 {

@@ -41,16 +41,6 @@ std::size_t floor_pow2(std::size_t v)
     return p;
 }
 
-int cull_mode(Cull cull)
-{
-    switch (cull) {
-    case Cull::Back: return CLVIS_CULL_BACK;
-    case Cull::Front: return CLVIS_CULL_FRONT;
-    case Cull::None: break;
-    }
-    return CLVIS_CULL_NONE;
-}
-
 } // namespace
 
 struct RasterPipeline::Impl {

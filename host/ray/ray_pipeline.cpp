@@ -164,7 +164,8 @@ void RayPipeline::render(const DeviceScene& scene, Frame& frame, bool brute)
         k.setArg(1, scene.positions);
         k.setArg(2, scene.indices);
         k.setArg(3, cl_uint(scene.triangle_count));
-        k.setArg(4, frame.keys);
+        k.setArg(4, cl_int(cull_mode(m.options.cull)));
+        k.setArg(5, frame.keys);
         cl::NDRange global(round_up(std::size_t(frame.width), g[0]), round_up(std::size_t(frame.height), g[1]));
         frame.queue.enqueueNDRangeKernel(k, cl::NullRange, global, g, nullptr, &done);
     } else {
@@ -175,7 +176,8 @@ void RayPipeline::render(const DeviceScene& scene, Frame& frame, bool brute)
         k.setArg(1, m.nodes);
         k.setArg(2, cl_uint(m.wide.nodes.size()));
         k.setArg(3, m.tris);
-        k.setArg(4, frame.keys);
+        k.setArg(4, cl_int(cull_mode(m.options.cull)));
+        k.setArg(5, frame.keys);
         std::size_t packets_x = (std::size_t(frame.width) + packet_w - 1) / packet_w;
         std::size_t packets_y = (std::size_t(frame.height) + packet_h - 1) / packet_h;
         cl::NDRange global(round_up(packets_x, g[0]), round_up(packets_y, g[1]));

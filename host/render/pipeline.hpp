@@ -6,6 +6,7 @@
 #include "runtime/cl.hpp"
 
 #include "shared/camera.h"
+#include "shared/visibility.h"
 
 #include <clvis/camera.hpp>
 #include <clvis/device.hpp>
@@ -59,6 +60,17 @@ cl::Kernel make_clear_kernel(Device::Impl& device);
 void clear_keys(cl::Kernel& clear, Frame& frame);
 
 /// A 1-D or 2-D global size rounded up to a multiple of the local size.
+/// RenderOptions::cull as the kernels' CLVIS_CULL_* (shared/visibility.h), for every path.
+inline int cull_mode(Cull cull)
+{
+    switch (cull) {
+    case Cull::Back: return CLVIS_CULL_BACK;
+    case Cull::Front: return CLVIS_CULL_FRONT;
+    case Cull::None: break;
+    }
+    return CLVIS_CULL_NONE;
+}
+
 inline std::size_t round_up(std::size_t n, std::size_t multiple) { return (n + multiple - 1) / multiple * multiple; }
 
 class RasterPipeline {

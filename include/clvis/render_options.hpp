@@ -1,5 +1,8 @@
 // What a Renderer is asked for and what it reports: the path, options, stage and BVH timings.
-// Plain types without OpenCL, shared by the Renderer, the paths behind it and the tools.
+// Plain types without OpenCL, shared by the Renderer, the paths behind it, the referee and the
+// tools. Every RenderOptions field means the same on every path (Path::Raster, Path::Ray,
+// Path::Brute): `cull` changes the answer, and every path and the referee apply it alike;
+// `tile_size` and `bvh` only tune one path's speed and never change an answer.
 #pragma once
 
 #include <cstddef>
@@ -18,7 +21,18 @@ const char* to_string(Path path) noexcept;
 /// "raster", "ray" or "brute"; throws Error(InvalidArgument) otherwise.
 Path path_from_string(const std::string& name);
 
-enum class Cull { None, Back, Front };
+/// Face culling. A triangle (v0, v1, v2), its vertices in index order after its mesh's
+/// transform, is front-facing when it appears counter-clockwise on screen (y up), that is when
+/// the eye lies on the side its normal cross(v1 - v0, v2 - v0) points to (orthographic: the
+/// normal points towards the camera, against the view direction). Only the positions as drawn
+/// count: a mirroring transform (negative determinant) turns a mesh's front faces into back
+/// faces, as in OpenGL; reverse the faces' winding to keep them. A triangle seen edge-on faces
+/// neither way, and has no inside to draw.
+enum class Cull {
+    None,  ///< both sides visible (CONVENTIONS.md's default)
+    Back,  ///< back faces dropped
+    Front, ///< front faces dropped
+};
 
 /// How a BVH follows a mesh whose positions changed (Renderer::update).
 enum class BvhUpdate { Refit, Rebuild };
@@ -31,8 +45,8 @@ struct BvhOptions {
 
 struct RenderOptions {
     int tile_size = 0;      ///< raster tile edge in pixels (a power of two); 0 picks the default
-    Cull cull = Cull::None; ///< face culling; front faces are counter-clockwise on screen
-    BvhOptions bvh;
+    Cull cull = Cull::None; ///< face culling, on every path (see Cull)
+    BvhOptions bvh;         ///< the ray path's tree (Path::Ray; the brute path has none)
 };
 
 struct StageTiming {

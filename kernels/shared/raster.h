@@ -25,11 +25,6 @@
 /* Clip planes: near and the guard band's four sides (clvis_clip_distance). */
 #define CLVIS_CLIP_PLANES 5
 
-/* Cull modes (RenderOptions::cull); front faces are counter-clockwise on screen. */
-#define CLVIS_CULL_NONE 0
-#define CLVIS_CULL_BACK 1
-#define CLVIS_CULL_FRONT 2
-
 /* A camera-space point as the clipper sees it: d = -z is the view depth. */
 typedef struct { float x, y, d; } clvis_clip_vertex;
 
@@ -214,8 +209,7 @@ static inline int clvis_raster_setup(clvis_raster_vertex v0, clvis_raster_vertex
     /* Doubled signed area; > 0 for a triangle counter-clockwise on screen (raster y points down). */
     clvis_i64 area = (v0.x - v1.x) * (v2.y - v1.y) - (v0.y - v1.y) * (v2.x - v1.x);
     if (area == 0) return 0;
-    if (cull == CLVIS_CULL_BACK && area < 0) return 0;
-    if (cull == CLVIS_CULL_FRONT && area > 0) return 0;
+    if (!clvis_cull_keeps(cull, area > 0, area < 0)) return 0; /* shared/visibility.h */
     if (area < 0) { /* one orientation for the edge functions; the id does not depend on it */
         clvis_raster_vertex tv = v1; v1 = v2; v2 = tv;
         area = -area;

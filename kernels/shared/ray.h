@@ -7,6 +7,7 @@
 #define CLVIS_SHARED_RAY_H
 
 #include "shared/types.h"
+#include "shared/visibility.h"
 
 #ifdef __OPENCL_C_VERSION__
 #define CLVIS_INFINITY INFINITY
@@ -59,10 +60,12 @@ static inline clvis_ray_shear clvis_make_shear(clvis_vec3 origin, clvis_vec3 dir
 /* The watertight test of the ray against triangle (a, b, c), both sides, edges inclusive: rays
    through an edge or vertex shared by two triangles hit at least one of them, whatever the order
    of the vertices. A degenerate triangle (zero area seen along the ray) never hits. Returns 1
-   and the ray parameter in *t when the hit lies in [near, far]. The same float operations on
+   and the ray parameter in *t when the hit lies in [near, far] and `cull` (CLVIS_CULL_*) keeps the
+   triangle: the determinant is positive where the triangle is front-facing (its normal
+   cross(b - a, c - a) points against the ray, shared/visibility.h). The same float operations on
    host and device (no contraction: shared/types.h), so host tests check what kernels compute. */
 static inline int clvis_intersect_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
-                                           float near_t, float far_t, float* t)
+                                           float near_t, float far_t, int cull, float* t)
 {
     clvis_vec3 A, B, C;
     A.x = a.x - s.origin.x; A.y = a.y - s.origin.y; A.z = a.z - s.origin.z;
@@ -95,7 +98,7 @@ static inline int clvis_intersect_triangle(clvis_ray_shear s, clvis_vec3 a, clvi
     float tz = u * (s.sz * akz) + v * (s.sz * bkz) + w * (s.sz * ckz);
     float tt = tz / det;
     *t = tt;
-    return inside && det != 0.0f && tt >= near_t && tt <= far_t;
+    return inside && det != 0.0f && tt >= near_t && tt <= far_t && clvis_cull_keeps(cull, det > 0.0f, det < 0.0f);
 }
 
 /* A ray prepared for the slab test: 1 / direction per axis (+-inf where a component is +-0) and

@@ -15,6 +15,22 @@ static inline clvis_u64 clvis_make_key(float depth, clvis_u32 id)
 {
     return ((clvis_u64)clvis_float_bits(depth) << 32) | (clvis_u64)id;
 }
+/* Face culling (RenderOptions::cull), the same on every path. A triangle (v0, v1, v2), its
+   vertices in index order after the mesh's transform, is front-facing when it appears
+   counter-clockwise on screen (raster y down: clockwise in raster coordinates), which is when the
+   eye lies on the side its normal cross(v1 - v0, v2 - v0) points to (orthographic: the normal
+   points towards the camera, against f). A mirroring transform therefore turns front faces into
+   back faces. `orientation` is the sign of a path's own measure of it: the raster path's doubled
+   area in snapped raster space, the ray path's watertight determinant. */
+#define CLVIS_CULL_NONE 0
+#define CLVIS_CULL_BACK 1
+#define CLVIS_CULL_FRONT 2
+
+static inline int clvis_cull_keeps(int cull, int front, int back)
+{
+    return cull == CLVIS_CULL_BACK ? front : (cull == CLVIS_CULL_FRONT ? back : 1);
+}
+
 static inline clvis_u32 clvis_key_id(clvis_u64 key) { return (clvis_u32)(key & 0xFFFFFFFFu); }
 static inline float clvis_key_depth(clvis_u64 key) { return clvis_bits_float((clvis_u32)(key >> 32)); }
 
