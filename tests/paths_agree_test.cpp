@@ -1,6 +1,6 @@
-// Both paths against the referee: every pixel of every buffer judged (zero errors anywhere), raster
-// against ray compared (explained mismatches counted, within CONVENTIONS.md's budget on real meshes
-// under general cameras), on the bundled meshes under framing and seeded random cameras, and on
+// Both paths against the referee: every pixel of every buffer judged, ids and depths (zero errors
+// anywhere, with the renderer's own options), raster against ray compared (explained mismatches
+// counted, within CONVENTIONS.md's budget on real meshes under general cameras), on the bundled meshes under framing and seeded random cameras, and on
 // procedural stress scenes built to put samples on shared edges, ties, slivers, huge triangles and
 // extreme depth ranges. Each case prints one line, so a regression shows in the test log.
 #include "catch.hpp"
@@ -133,7 +133,7 @@ Frames agree(Renderer& renderer, const Scene& scene, const std::string& name, co
     REQUIRE(unc.px <= precision_share * referee_edge_eps);
     REQUIRE(unc.depth <= depth_share * referee_depth_rel);
 
-    Referee ref(scene, cam, w, h);
+    Referee ref(scene, cam, w, h, renderer.options());
     std::vector<Path> paths = {Path::Raster, Path::Ray};
     if (brute) paths.push_back(Path::Brute);
     Frames f;
@@ -151,9 +151,12 @@ Frames agree(Renderer& renderer, const Scene& scene, const std::string& name, co
             covered += id != background_id;
         }
         CompareReport r = ref.check(v, options);
-        INFO(to_string(p) << " path: " << r.errors << " errors, " << invalid << " invalid ids" << first_errors(r));
+        INFO(to_string(p) << " path: " << r.errors << " errors, " << r.depth_errors << " depth errors, " << invalid
+                          << " invalid ids" << first_errors(r));
         CHECK(invalid == 0);
         CHECK(r.errors == 0);
+        CHECK(r.depths_judged);
+        CHECK(r.depth_errors == 0);
         if (with_reference) {
             std::size_t differ = 0;
             for (int y = 0; y < h; ++y)
@@ -164,11 +167,13 @@ Frames agree(Renderer& renderer, const Scene& scene, const std::string& name, co
                 }
             CHECK(differ == 0);
         }
-        len += std::snprintf(line + len, sizeof line - len, " | %s %zu err %zu cov", to_string(p), r.errors, covered);
+        len += std::snprintf(line + len, sizeof line - len, " | %s %zu err %zu zerr %zu cov", to_string(p), r.errors,
+                             r.depth_errors, covered);
     }
     CompareReport rr = ref.compare(f.vis[0], f.vis[1], options);
     INFO("raster vs ray" << first_errors(rr));
     CHECK(rr.errors == 0);
+    CHECK(rr.depth_errors == 0);
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("%s | raster/ray %zu explained | unc %.1e px %.1e rel | %.2f s\n", line, rr.explained, unc.px,
                 unc.depth, seconds);
@@ -365,6 +370,14 @@ TEST_CASE("both paths give acceptable answers on every pixel of the bundled mesh
         CHECK(r.first_errors[0].error == AnswerError::Missed);
         CHECK(r.first_errors[1].error != AnswerError::None);
         CHECK(r.first_errors[2].error == AnswerError::InvalidId);
+        // ... and a copy with a depth 1e-4 off and a finite background depth.
+        HostVisibility bad_depth = f.vis[0];
+        REQUIRE(bad_depth.ids[0] == background_id);
+        bad_depth.depth[0] = 5;
+        bad_depth.depth[centre] *= 1.0001f;
+        CompareReport rz = ref.check(bad_depth);
+        CHECK(rz.errors == 0);
+        CHECK(rz.depth_errors == 2);
         agree(renderer, s, m + " framing ortho", Camera::framing(s.bounds(), Projection::Orthographic), 160, 120,
               false, false, tally);
         agree(renderer, s, m + " framing", framing, 1, 1, true, true, tally);

@@ -282,36 +282,41 @@ TEST_CASE("compare counts equal, explained and erroneous pixels of hand-made buf
         }
     a.ids[0] = 7;                       // (0, 0): not a triangle of the scene
     b.ids[3 * 4 + 3] = 0;               // (3, 3): the left triangle, 1 px outside
-    a.ids[1] = b.ids[1] = background_id; // (1, 0): both miss; seen only with --all
+    a.ids[1] = b.ids[1] = background_id; // (1, 0): both miss, the same wrong answer
 
-    CompareReport r = ref.compare(a, b);
+    CompareReport r = ref.compare(a, b); // every pixel judged
     CHECK(r.pixels == 16);
-    CHECK(r.equal == 10);
+    CHECK(r.judged == 16);
+    CHECK(r.equal == 9);
     CHECK(r.explained == 4);
-    CHECK(r.errors == 2);
-    CHECK(r.errors_a == 1);
-    CHECK(r.errors_b == 1);
-    REQUIRE(r.first_errors.size() == 2);
+    CHECK(r.errors == 3);
+    CHECK(r.equal + r.explained + r.errors == r.pixels);
+    CHECK(r.errors_a == 2);
+    CHECK(r.errors_b == 2);
+    REQUIRE(r.first_errors.size() == 3);
     CHECK(r.first_errors[0].error == AnswerError::InvalidId);
     CHECK(r.first_errors[0].source == 0);
     CHECK_THAT(r.first_errors[0].describe(), Catch::Contains("invalid id") && Catch::Contains("id 7"));
-    CHECK(r.first_errors[1].error == AnswerError::Coverage);
-    CHECK(r.first_errors[1].x == 3);
-    CHECK(r.first_errors[1].y == 3);
-    CHECK(r.first_errors[1].source == 1);
+    CHECK(r.first_errors[1].error == AnswerError::Missed);
+    CHECK(r.first_errors[1].source == 2);
+    CHECK(r.first_errors[2].error == AnswerError::Coverage);
+    CHECK(r.first_errors[2].x == 3);
+    CHECK(r.first_errors[2].y == 3);
+    CHECK(r.first_errors[2].source == 1);
 
-    CompareOptions all;
-    all.all = true;
-    all.max_reported = 2;
-    CompareReport ra = ref.compare(a, b, all);
-    CHECK(ra.equal == 10);
-    CHECK(ra.explained == 4);
-    CHECK(ra.errors == 3);
-    CHECK(ra.errors_a == 2);
-    CHECK(ra.errors_b == 2);
-    REQUIRE(ra.first_errors.size() == 2); // capped, raster order
-    CHECK(ra.first_errors[1].error == AnswerError::Missed);
-    CHECK(ra.first_errors[1].source == 2);
+    CompareOptions differing;
+    differing.differing_only = true;
+    differing.max_reported = 1;
+    CompareReport rd = ref.compare(a, b, differing);
+    CHECK(rd.judged == 6);
+    CHECK(rd.equal == 10); // counted equal without being judged: (1, 0) passes
+    CHECK(rd.explained == 4);
+    CHECK(rd.errors == 2);
+    CHECK(rd.equal + rd.explained + rd.errors == rd.pixels);
+    CHECK(rd.errors_a == 1);
+    CHECK(rd.errors_b == 1);
+    REQUIRE(rd.first_errors.size() == 1); // capped, raster order
+    CHECK(rd.first_errors[0].error == AnswerError::InvalidId);
 
     CompareReport ca = ref.check(a);
     CHECK(ca.pixels == 16);

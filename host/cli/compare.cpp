@@ -1,6 +1,7 @@
-// clvis compare: two id buffers (from either path, or from an outside renderer), the meshes and
-// the camera they were rendered with; the referee judges where they differ (or every pixel) and
-// the exit status says whether any answer is wrong: 0 none, 1 some, 2 unusable input.
+// clvis compare: two id buffers (from either path, or from an outside renderer), optionally their
+// depth buffers, the meshes and the camera (and cull option) they were rendered with; the referee
+// judges every pixel (or only where they differ) and the exit status says whether any answer is
+// wrong: 0 none, 1 some, 2 unusable input.
 #include "commands.hpp"
 #include "options.hpp"
 
@@ -12,6 +13,7 @@
 #include <cstdio>
 #include <iostream>
 #include <tuple>
+#include <utility>
 
 namespace clvis::cli {
 
@@ -26,16 +28,20 @@ struct CompareArgs {
     std::string first, second;
     SceneInput scene;
     CameraOptions camera;
+    std::string depths; ///< "A.exr,B.exr"
+    std::string cull = "none";
     bool all = false;
+    bool differing_only = false;
     bool json = false;
     std::size_t max_reported = 20;
 };
 
 const char* description =
-    "Judge two id buffers with the referee of CONVENTIONS.md: counts of equal pixels, of explained "
-    "mismatches (both answers acceptable) and of errors, and the first errors one per line. Give the "
-    "meshes and camera flags the buffers were rendered with; --width/--height default to the "
-    "buffers' size. Exit status 0: no error, 1: errors, 2: unusable input.\n"
+    "Judge two id buffers (and with --depths their depth buffers) with the referee of CONVENTIONS.md, "
+    "every pixel of both: counts of equal pixels, of explained mismatches (both answers acceptable) "
+    "and of errors, which add up to the pixels (the same for depths), and the first errors one per "
+    "line. Give the meshes, camera flags and --cull the buffers were rendered with; --width/--height "
+    "default to the buffers' size. Exit status 0: no error, 1: errors, 2: unusable input.\n"
     "Example: clvis compare raster.tif ray.tif scenes/spot.obj --eye 0,1,3 --target 0,0,0 --fov 40";
 
 void add_options(CLI::App& app, CompareArgs& a)
@@ -44,7 +50,12 @@ void add_options(CLI::App& app, CompareArgs& a)
     app.add_option("second", a.second, "second id buffer")->required();
     a.scene.add_to(app);
     a.camera.add_to(app);
-    app.add_flag("--all", a.all, "judge every pixel of both buffers, not only where they differ");
+    app.add_option("--depths", a.depths, "A.exr,B.exr: the two depth buffers, judged too");
+    app.add_option("--cull", a.cull, "the face culling the buffers were rendered with: none, back or front")
+        ->check(CLI::IsMember({"none", "back", "front"}));
+    app.add_flag("--differing-only", a.differing_only,
+                 "judge only the pixels where the buffers differ (the others count as equal unjudged)");
+    app.add_flag("--all", a.all, "judge every pixel of both buffers (the default)");
     app.add_flag("--json", a.json, "print one JSON object on standard output");
     app.add_option("--max-errors", a.max_reported, "errors listed at most (default 20)");
 }
@@ -62,21 +73,36 @@ struct Inputs {
     bool framed = false;
 };
 
-/// An id buffer file, through the image layer.
-HostVisibility read_buffer(const std::string& path)
+/// An id buffer file, and its depth file when `depth` is not empty, through the image layer.
+HostVisibility read_buffer(const std::string& path, const std::string& depth)
 {
 #if CLVIS_WITH_IMAGE_IO
-    return read_ids(path);
+    HostVisibility v = read_ids(path);
+    if (!depth.empty()) read_depth(depth, v);
+    return v;
 #else
+    (void)depth;
     unusable(path + ": this clvis was built without OpenImageIO (CLVIS_WITH_IMAGE_IO=OFF) and reads no id buffers");
 #endif
+}
+
+/// The two files of --depths A,B (empty when not given).
+std::pair<std::string, std::string> depth_files(const std::string& flag)
+{
+    if (flag.empty()) return {};
+    std::size_t comma = flag.find(',');
+    if (comma == std::string::npos || comma == 0 || comma + 1 == flag.size() ||
+        flag.find(',', comma + 1) != std::string::npos)
+        unusable("--depths: expected two files A.exr,B.exr, got '" + flag + "'");
+    return {flag.substr(0, comma), flag.substr(comma + 1)};
 }
 
 Inputs read_inputs(const CLI::App& app, const CompareArgs& args)
 {
     Inputs in;
-    in.a = read_buffer(args.first);
-    in.b = read_buffer(args.second);
+    auto [depth_a, depth_b] = depth_files(args.depths);
+    in.a = read_buffer(args.first, depth_a);
+    in.b = read_buffer(args.second, depth_b);
     if (in.a.width != in.b.width || in.a.height != in.b.height)
         unusable("the buffers differ in size: " + args.first + " is " + std::to_string(in.a.width) + "x" +
                  std::to_string(in.a.height) + ", " + args.second + " " + std::to_string(in.b.width) + "x" +
@@ -104,6 +130,11 @@ nlohmann::json verdict_json(const PixelVerdict& v)
     if (v.nearest_id != background_id) j["nearest_depth"] = v.nearest_depth;
     if (v.error == AnswerError::Coverage) j["edge_distance"] = v.edge_distance;
     if (v.error == AnswerError::HiddenSurface) j["depth_excess"] = v.depth_excess;
+    if (v.depth_judged) {
+        j["depth_error"] = to_string(v.depth_error);
+        j["answer_depth"] = std::isfinite(v.answer_depth) ? nlohmann::json(v.answer_depth) : nlohmann::json(nullptr);
+        if (std::isfinite(v.depth_lo) && std::isfinite(v.depth_hi)) j["depth_range"] = {v.depth_lo, v.depth_hi};
+    }
     return j;
 }
 
@@ -113,9 +144,12 @@ int run_compare(const CLI::App& app, const CompareArgs& args)
     CompareReport r;
     try {
         in = read_inputs(app, args);
-        Referee referee(in.file.scene, in.camera, in.a.width, in.a.height);
+        if (args.all && args.differing_only) unusable("--all and --differing-only exclude each other");
+        RenderOptions render;
+        render.cull = args.cull == "back" ? Cull::Back : args.cull == "front" ? Cull::Front : Cull::None;
+        Referee referee(in.file.scene, in.camera, in.a.width, in.a.height, render);
         CompareOptions options;
-        options.all = args.all;
+        options.differing_only = args.differing_only;
         options.max_reported = args.max_reported;
         r = referee.compare(in.a, in.b, options);
     } catch (const Error& e) {
@@ -131,27 +165,36 @@ int run_compare(const CLI::App& app, const CompareArgs& args)
                             {"height", in.a.height},
                             {"triangles", in.file.scene.triangle_count()},
                             {"camera", in.camera.to_flags()},
-                            {"all", args.all},
+                            {"cull", args.cull},
+                            {"differing_only", args.differing_only},
                             {"pixels", r.pixels},
+                            {"judged", r.judged},
                             {"equal", r.equal},
                             {"explained", r.explained},
                             {"errors", r.errors},
                             {"errors_first", r.errors_a},
                             {"errors_second", r.errors_b},
                             {"first_errors", nlohmann::json::array()}};
+        if (r.depths_judged)
+            j["depths"] = {{"equal", r.depth_equal},         {"explained", r.depth_explained},
+                           {"errors", r.depth_errors},       {"errors_first", r.depth_errors_a},
+                           {"errors_second", r.depth_errors_b}};
         for (const PixelVerdict& v : r.first_errors) j["first_errors"].push_back(verdict_json(v));
         std::cout << j.dump(2) << "\n";
     } else {
-        std::printf("%s vs %s: %zu pixels%s, %zu equal, %zu explained, %zu errors (first %zu, second %zu)\n",
-                    args.first.c_str(), args.second.c_str(), r.pixels,
-                    args.all ? " (all judged)" : " (judged where they differ)", r.equal, r.explained, r.errors,
-                    r.errors_a, r.errors_b);
+        std::printf("%s vs %s: %zu pixels, %zu judged%s: %zu equal, %zu explained, %zu errors (first %zu, second "
+                    "%zu)\n",
+                    args.first.c_str(), args.second.c_str(), r.pixels, r.judged,
+                    args.differing_only ? " (where they differ)" : "", r.equal, r.explained, r.errors, r.errors_a,
+                    r.errors_b);
+        if (r.depths_judged)
+            std::printf("depths: %zu equal, %zu explained, %zu errors (first %zu, second %zu)\n", r.depth_equal,
+                        r.depth_explained, r.depth_errors, r.depth_errors_a, r.depth_errors_b);
         for (const PixelVerdict& v : r.first_errors) std::printf("  %s\n", v.describe().c_str());
-        if (r.first_errors.size() < r.errors_a + r.errors_b)
-            std::printf("  ... (%zu more; --max-errors N lists more)\n",
-                        r.errors_a + r.errors_b - r.first_errors.size());
+        if (r.first_errors.size() == args.max_reported && (r.errors > 0 || r.depth_errors > 0))
+            std::printf("  ... (--max-errors N lists more)\n");
     }
-    return r.errors > 0 ? exit_errors : exit_agree;
+    return r.errors > 0 || r.depth_errors > 0 ? exit_errors : exit_agree;
 }
 
 /// Parses the subcommand's own arguments (as given, in order) and runs it: CLI11's own exit

@@ -130,20 +130,29 @@ std::string path_line(const PathResult& r, int repeat)
 /// The referee's verdict on raster against ray, said on standard error and returned as JSON.
 template <class Say>
 nlohmann::json compare_paths(const SceneFile& file, const Camera& camera, const CameraOptions& cam_opts,
-                             const std::vector<PathResult>& results, Say say)
+                             const RenderOptions& options, const std::vector<PathResult>& results, Say say)
 {
-    Referee referee(file.scene, camera, cam_opts.width, cam_opts.height);
-    CompareOptions co;
-    co.all = true;
-    CompareReport rep = referee.compare(results[0].vis, results[1].vis, co);
-    char buf[256];
+    Referee referee(file.scene, camera, cam_opts.width, cam_opts.height, options);
+    CompareReport rep = referee.compare(results[0].vis, results[1].vis);
+    char buf[320];
     std::snprintf(buf, sizeof buf, "clvis: raster vs ray: %zu pixels, %zu equal, %zu explained, %zu errors "
+                                   "(raster %zu, ray %zu); depths %zu equal, %zu explained, %zu errors "
                                    "(raster %zu, ray %zu)",
-                  rep.pixels, rep.equal, rep.explained, rep.errors, rep.errors_a, rep.errors_b);
+                  rep.pixels, rep.equal, rep.explained, rep.errors, rep.errors_a, rep.errors_b, rep.depth_equal,
+                  rep.depth_explained, rep.depth_errors, rep.depth_errors_a, rep.depth_errors_b);
     say(buf);
     for (const auto& e : rep.first_errors) say("  " + e.describe());
-    return {{"pixels", rep.pixels}, {"equal", rep.equal}, {"explained", rep.explained},
-            {"errors", rep.errors}, {"errors_raster", rep.errors_a}, {"errors_ray", rep.errors_b}};
+    return {{"pixels", rep.pixels},
+            {"equal", rep.equal},
+            {"explained", rep.explained},
+            {"errors", rep.errors},
+            {"errors_raster", rep.errors_a},
+            {"errors_ray", rep.errors_b},
+            {"depths", {{"equal", rep.depth_equal},
+                        {"explained", rep.depth_explained},
+                        {"errors", rep.depth_errors},
+                        {"errors_raster", rep.depth_errors_a},
+                        {"errors_ray", rep.depth_errors_b}}}};
 }
 
 nlohmann::json path_json(const PathResult& r)
@@ -222,11 +231,12 @@ void render_command(const RenderArgs& a)
         say(path_line(results.back(), a.repeat));
     }
     nlohmann::json compare_json;
-    if (several) compare_json = compare_paths(file, camera, cam_opts, results, say);
+    if (several) compare_json = compare_paths(file, camera, cam_opts, render_options(a), results, say);
     if (a.json)
         std::cout << render_json(a, file, cam_opts, camera, device, load_ms, results, compare_json).dump(2) << "\n";
-    if (several && compare_json["errors"].get<std::size_t>() > 0)
-        throw Error(Error::Kind::InvalidArgument, "the referee rejected pixels of a path (see above)");
+    if (several && (compare_json["errors"].get<std::size_t>() > 0 ||
+                    compare_json["depths"]["errors"].get<std::size_t>() > 0))
+        throw Error(Error::Kind::InvalidArgument, "the referee rejected ids or depths of a path (see above)");
 }
 
 } // namespace

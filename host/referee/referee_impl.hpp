@@ -1,5 +1,6 @@
 // The referee's internals, shared by its set-up (referee_setup.cpp: triangles in double
-// precision, binned into tiles) and its judgement (referee.cpp: per sample, per pixel, per buffer).
+// precision, binned into tiles), its classification (referee.cpp: per triangle and sample) and its
+// judgement (referee_judge.cpp: ids and depths, per sample, per pixel, per buffer).
 #pragma once
 
 #include <clvis/referee.hpp>
@@ -36,6 +37,7 @@ struct Triangle {
     Linear edge[3];     ///< signed distance in px, positive inside (orientation folded in)
     Linear det, num;    ///< view depth of the plane along the primary ray = num / det
     bool flat = false;  ///< zero area or edge-on: no inside
+    bool culled = false; ///< faces the way RenderOptions::cull drops (never when flat)
     int n = 0;          ///< vertices of the visible part (0: nothing in the depth range)
     double px[max_poly], py[max_poly], pd[max_poly]; ///< its raster position and view depth
     double lo_x = inf, lo_y = inf, hi_x = -inf, hi_y = -inf; ///< EPS-expanded raster bounds
@@ -48,6 +50,7 @@ namespace clvis {
 struct Referee::Impl {
     Camera camera;
     int width = 0, height = 0;
+    Cull cull = Cull::None;
     bool perspective = true;
     double near_lo = 0, near_in = 0, far_in = 0, far_hi = 0; ///< depth range with tolerances
     std::vector<detail::Triangle> tris;
@@ -72,11 +75,19 @@ struct Referee::Impl {
     }
     template <class Fn> void for_candidates(int x, int y, Fn fn) const;
     Nearest nearest(int x, int y) const;
-    PixelVerdict judge(int x, int y, std::uint32_t id, const Nearest& n) const;
+    /// Judges one answer (its id, and its depth when it has one) at pixel (x, y).
+    PixelVerdict judge(int x, int y, const SampleAnswer& answer, const Nearest& n) const;
+    /// Judges the depth of v.answer_depth for triangle t at raster (x, y) into v.
+    void judge_depth(const detail::Triangle& t, double x, double y, PixelVerdict& v) const;
+    /// The view depths of t's visible part within EPS (a square) of raster (x, y); false if none.
+    bool window_depths(const detail::Triangle& t, double x, double y, double* lo, double* hi) const;
     template <class RowFn> CompareReport by_rows(std::size_t max_reported, RowFn row) const;
     /// A screen-space linear function k.x sx + k.y sy + k.z as a function of raster (x, y).
     detail::Linear to_raster(double kx, double ky, double k0) const;
     void project(Vec3 cam, double* x, double* y) const;
 };
+
+/// Error(InvalidArgument) unless (x, y) is a pixel of the referee's image.
+void referee_check_pixel(const Referee::Impl& impl, int x, int y);
 
 } // namespace clvis

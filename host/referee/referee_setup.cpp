@@ -96,6 +96,10 @@ void Referee::Impl::setup_triangle(Triangle& t, const Vec3 world[3], const Vec3 
         t.num = to_raster(-nc.x, -nc.y, dot(p[0], nc));
     }
     if (zero_area(world[0], world[1], world[2])) t.flat = true;
+    // Front-facing (render_options.hpp) when the normal points towards the eye: then num < 0,
+    // or, orthographic, nc.z > 0: sign < 0 either way.
+    bool front = sign < 0;
+    t.culled = !t.flat && (cull == Cull::Back ? !front : cull == Cull::Front && front);
     for (int k = 0; k < 3; ++k) {
         Vec3 a = p[k], b = p[(k + 1) % 3];
         Linear e;

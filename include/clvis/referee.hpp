@@ -12,10 +12,21 @@
 // the ray meets it, else at the depth of the nearest point of its visible part (along a ray that
 // misses a triangle seen almost edge-on, its plane's depth is meaningless). A triangle of zero
 // area (exactly, from its float32 vertices) or seen exactly edge-on has no inside: ambiguous
-// within EPS of its projected segment, out elsewhere.
+// within EPS of its projected segment, out elsewhere. With RenderOptions::cull, a triangle facing
+// the culled way (render_options.hpp) is out wherever it would be in (the sample robustly inside
+// its projection fixes its orientation); near its edges it stays ambiguous.
+//
+// Depths are judged too: the depth a buffer holds for its answer at a sample must lie within the
+// depth tolerance of CONVENTIONS.md ("Barycentrics") of the answered triangle's exact view depth
+// there, the depth of its plane along the sample's primary ray: `referee_depth_judge_rel` d plus
+// the change of depth over `referee_depth_judge_px` px along the triangle's screen-space depth
+// gradient. A triangle without an inside (zero area, seen edge-on), or whose plane the ray meets
+// only behind the eye, is judged against the depth range of its visible part instead. The
+// background's depth must be +inf.
 #pragma once
 
 #include <clvis/camera.hpp>
+#include <clvis/render_options.hpp>
 #include <clvis/scene.hpp>
 #include <clvis/host_visibility.hpp>
 
@@ -30,6 +41,10 @@ namespace clvis {
 /// relative depth tolerance, as CONVENTIONS.md sets them.
 constexpr double referee_edge_eps = 1e-3;
 constexpr double referee_depth_rel = 1e-6;
+/// The depth tolerance of a buffer's depths: relative, plus the gradient over this many pixels
+/// (the raster path's 1/65536 px snapping).
+constexpr double referee_depth_judge_rel = 1e-5;
+constexpr double referee_depth_judge_px = 1.0 / 65536;
 
 /// What is wrong with an unacceptable answer.
 enum class AnswerError {
@@ -39,9 +54,27 @@ enum class AnswerError {
     Missed,        ///< background answered where a triangle robustly covers the sample
     Clipped,       ///< its depth at the sample is outside [near, far]
     InvalidId,     ///< an id that is neither a triangle of the scene nor the background
+    Culled,        ///< it robustly covers the sample but faces the way RenderOptions::cull drops
 };
 
 const char* to_string(AnswerError error) noexcept;
+
+/// What is wrong with the depth a buffer holds for its answer.
+enum class DepthError {
+    None,       ///< within the tolerance of the answered triangle's exact depth (or not judged)
+    Wrong,      ///< outside [depth_lo, depth_hi]: a triangle's depth off, or a finite background
+    NoTriangle, ///< the answer is an invalid id: there is no depth to judge it against
+};
+
+const char* to_string(DepthError error) noexcept;
+
+/// One answer at one sample, as a buffer holds it. More per-sample outputs (barycentrics) are
+/// judged by adding fields here and checks in the referee's per-sample judge.
+struct SampleAnswer {
+    std::uint32_t id = background_id;
+    bool has_depth = false; ///< whether `depth` is judged
+    float depth = 0;        ///< the buffer's view depth (+inf for the background)
+};
 
 /// One triangle at one sample, as the conventions classify it.
 enum class SampleClass { In, Ambiguous, Out };
@@ -49,6 +82,7 @@ enum class SampleClass { In, Ambiguous, Out };
 struct TriangleAtSample {
     SampleClass cls = SampleClass::Out;
     bool out_by_depth = false; ///< Out because of the depth range (else because of the edges)
+    bool culled = false;       ///< Out because RenderOptions::cull drops it (it would be In)
     double outside = 0;        ///< px outside the triangle's visible projection (Out by edges)
     double depth = 0;          ///< view depth of the triangle at the sample (NaN when undefined)
 };
@@ -63,33 +97,56 @@ struct PixelVerdict {
     double depth_excess = 0;    ///< relative: depth / d* - 1 (HiddenSurface)
     std::uint32_t nearest_id = background_id; ///< the nearest robustly covering triangle
     double nearest_depth = 0;   ///< d*, its depth
+    // The depth answered (judged only when the SampleAnswer has one).
+    bool depth_judged = false;
+    DepthError depth_error = DepthError::None;
+    float answer_depth = 0;     ///< the buffer's depth
+    double depth_expected = 0;  ///< the exact depth (NaN when judged against a range only)
+    double depth_lo = 0, depth_hi = 0; ///< the accepted range
 
+    /// The id is acceptable (its depth may not be: depth_acceptable()).
     bool acceptable() const { return error == AnswerError::None; }
+    bool depth_acceptable() const { return depth_error == DepthError::None; }
     /// One line for people: "pixel (12, 40): id 7 ... (coverage: 0.013 px outside an edge)".
     std::string describe() const;
 };
 
+/// Counts that add up: equal + explained + errors == pixels, and depth_equal + depth_explained +
+/// depth_errors == pixels when depths_judged.
 struct CompareReport {
-    std::size_t pixels = 0;     ///< pixels looked at
-    std::size_t equal = 0;      ///< same id in both (check(): the answer equals reference())
+    std::size_t pixels = 0;     ///< pixels of the buffers
+    std::size_t judged = 0;     ///< pixels the referee judged (all unless differing_only)
+    std::size_t equal = 0;      ///< same id in both, acceptable or not judged (check(): the answer
+                                ///< is acceptable and equals reference())
     std::size_t explained = 0;  ///< different ids, both acceptable (check(): acceptable, differs
                                 ///< from reference())
-    std::size_t errors = 0;     ///< pixels where at least one answer is unacceptable
-    std::size_t errors_a = 0, errors_b = 0; ///< unacceptable answers of each buffer
-    std::vector<PixelVerdict> first_errors; ///< up to max_reported, in raster order
+    std::size_t errors = 0;     ///< pixels where at least one id is unacceptable
+    std::size_t errors_a = 0, errors_b = 0; ///< unacceptable ids of each buffer
+    bool depths_judged = false; ///< both buffers (check(): the buffer) hold depths
+    std::size_t depth_equal = 0;     ///< same depth bits in both, acceptable or not judged (check():
+                                     ///< acceptable and equal to the exact depth as a float)
+    std::size_t depth_explained = 0; ///< different depths (check(): not that float), both acceptable
+    std::size_t depth_errors = 0;    ///< pixels where at least one depth is unacceptable
+    std::size_t depth_errors_a = 0, depth_errors_b = 0;
+    /// Up to max_reported verdicts with an unacceptable id or depth, in raster order.
+    std::vector<PixelVerdict> first_errors;
 };
 
 struct CompareOptions {
-    bool all = false;            ///< judge every pixel of both, not only where they differ
+    /// Judge only the pixels where the buffers differ (in id, or in depth when both hold depths);
+    /// the others count as equal without being judged, so two buffers with the same wrong answer
+    /// pass. Off by default: every pixel of both is judged.
+    bool differing_only = false;
     std::size_t max_reported = 20;
 };
 
 class Referee {
 public:
     /// Projects the scene with `camera` for a width x height image (double precision) and
-    /// indexes triangles by the pixel tiles their EPS-expanded projected bounds touch. Throws
+    /// indexes triangles by the pixel tiles their EPS-expanded projected bounds touch. Judges with
+    /// `options` as the paths render with them (only `cull` changes an answer). Throws
     /// Error(InvalidArgument) for an invalid camera or a size <= 0. The scene is copied from.
-    Referee(const Scene& scene, const Camera& camera, int width, int height);
+    Referee(const Scene& scene, const Camera& camera, int width, int height, const RenderOptions& options = {});
     ~Referee();
     Referee(Referee&&) noexcept;
     Referee& operator=(Referee&&) noexcept;
@@ -101,15 +158,19 @@ public:
     TriangleAtSample classify(std::uint32_t id, int x, int y) const;
     /// Judges `id` as the answer at pixel (x, y).
     PixelVerdict judge(int x, int y, std::uint32_t id) const;
+    /// Judges an answer with its depth (when it has one) at pixel (x, y).
+    PixelVerdict judge(int x, int y, const SampleAnswer& answer) const;
     /// The plain reference answer: the nearest triangle robustly covering the sample (ties to
     /// the lower id), or background_id. `ambiguous` is set when another answer is acceptable
     /// too (an ambiguous or in triangle no farther than it); `depth` receives d* (+inf if none).
     std::uint32_t reference(int x, int y, bool* ambiguous = nullptr, double* depth = nullptr) const;
-    /// Compares two buffers of this referee's size (Error(InvalidArgument) otherwise).
+    /// Compares two buffers of this referee's size (Error(InvalidArgument) otherwise); depths are
+    /// judged when both hold them (a depth vector that is neither empty nor of the buffer's size
+    /// is an Error(InvalidArgument)).
     CompareReport compare(const HostVisibility& a, const HostVisibility& b,
                           const CompareOptions& options = {}) const;
-    /// Judges every pixel of one buffer (errors_a counts its errors; equal and explained
-    /// compare it with reference()).
+    /// Judges every pixel of one buffer, its depths too when it holds them (errors_a counts its
+    /// errors; equal and explained compare it with reference()).
     CompareReport check(const HostVisibility& a, const CompareOptions& options = {}) const;
 
     struct Impl;
