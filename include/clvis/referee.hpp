@@ -20,9 +20,10 @@
 // depth tolerance of CONVENTIONS.md ("Barycentrics") of the answered triangle's exact view depth
 // there, the depth of its plane along the sample's primary ray: `referee_depth_judge_rel` d plus
 // the change of depth over `referee_depth_judge_px` px along the triangle's screen-space depth
-// gradient. A triangle without an inside (zero area, seen edge-on), or whose plane the ray meets
-// only behind the eye, is judged against the depth range of its visible part instead. The
-// background's depth must be +inf.
+// gradient. Where the ray misses the triangle (within EPS outside it), or the triangle has no
+// inside (zero area, seen edge-on), the depths of its visible part within EPS of the sample are
+// accepted too, widened by the relative tolerance: along a ray that misses a plane seen almost
+// edge-on, the plane's depth means nothing. The background's depth must be +inf.
 #pragma once
 
 #include <clvis/camera.hpp>
@@ -101,7 +102,7 @@ struct PixelVerdict {
     bool depth_judged = false;
     DepthError depth_error = DepthError::None;
     float answer_depth = 0;     ///< the buffer's depth
-    double depth_expected = 0;  ///< the exact depth (NaN when judged against a range only)
+    double depth_expected = 0;  ///< the plane's exact depth along the ray (NaN when it has none)
     double depth_lo = 0, depth_hi = 0; ///< the accepted range
 
     /// The id is acceptable (its depth may not be: depth_acceptable()).
