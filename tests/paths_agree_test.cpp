@@ -141,6 +141,10 @@ Frames agree(Renderer& renderer, const Scene& scene, const std::string& name, co
     int len = std::snprintf(line, sizeof line, "agree %-34s %5dx%-5d", name.c_str(), w, h);
     CompareOptions options;
     options.max_reported = 5;
+    // Depths: the gradient's share of the tolerance over CONVENTIONS.md's 1/65536 px, or over
+    // what float32 leaves of the positions when that is more (the vertices' uncertainty above,
+    // and about max(w, h) 2^-24 px per operation in raster space), printed as "zpx".
+    options.depth_px = std::fmax(referee_depth_judge_px, 2 * std::fmax(unc.px, std::max(w, h) * float_ulp));
     for (Path p : paths) {
         f.vis.push_back(renderer.render(cam, w, h, p).read());
         const HostVisibility& v = f.vis.back();
@@ -175,8 +179,8 @@ Frames agree(Renderer& renderer, const Scene& scene, const std::string& name, co
     CHECK(rr.errors == 0);
     CHECK(rr.depth_errors == 0);
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::printf("%s | raster/ray %zu explained | unc %.1e px %.1e rel | %.2f s\n", line, rr.explained, unc.px,
-                unc.depth, seconds);
+    std::printf("%s | raster/ray %zu explained | unc %.1e px %.1e rel | zpx %.1e | %.2f s\n", line, rr.explained,
+                unc.px, unc.depth, options.depth_px, seconds);
     std::fflush(stdout);
     tally.pixels += std::size_t(w) * std::size_t(h);
     tally.explained += rr.explained;

@@ -144,6 +144,23 @@ TEST_CASE("depths are judged within 1e-5 d plus the gradient over 1/65536 px", "
     CHECK(ref.judge(2, 3, answer(0, 34.99945f)).depth_error == DepthError::Wrong);
     CHECK(ref.judge(2, 3, answer(0, std::nanf(""))).depth_error == DepthError::Wrong);
     CHECK(ref.judge(2, 3, answer(0, inf)).depth_error == DepthError::Wrong);
+    // A buffer of one pixel, that sample: CompareOptions::depth_px widens the gradient's share,
+    // only when asked, and only up to 1 px.
+    Referee one(s, Camera::orthographic({2.5, 4.5, 10}, {2.5, 4.5, 0}, {0, 1, 0}, 1, 1, 100), 1, 1);
+    HostVisibility v;
+    v.width = v.height = 1;
+    v.ids = {0};
+    v.depth = {35.00055f};
+    CHECK(one.check(v).depth_errors == 1);
+    CompareOptions wide;
+    wide.depth_px = 1e-3; // 35e-5 + 10 * 1e-3
+    CHECK(one.check(v, wide).depth_errors == 0);
+    v.depth = {35.0105f};
+    CHECK(one.check(v, wide).depth_errors == 1);
+    for (double bad : {0.0, 1e-6, 1.0, std::nan("")}) {
+        wide.depth_px = bad;
+        CHECK_THROWS_AS(one.check(v, wide), Error);
+    }
     // Without a depth nothing is judged.
     CHECK_FALSE(ref.judge(2, 3, 0).depth_judged);
     CHECK(ref.judge(2, 3, 0).depth_acceptable());

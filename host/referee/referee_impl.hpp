@@ -76,9 +76,10 @@ struct Referee::Impl {
     template <class Fn> void for_candidates(int x, int y, Fn fn) const;
     Nearest nearest(int x, int y) const;
     /// Judges one answer (its id, and its depth when it has one) at pixel (x, y).
-    PixelVerdict judge(int x, int y, const SampleAnswer& answer, const Nearest& n) const;
+    /// `depth_px`: CompareOptions::depth_px.
+    PixelVerdict judge(int x, int y, const SampleAnswer& answer, const Nearest& n, double depth_px) const;
     /// Judges the depth of v.answer_depth for triangle t at raster (x, y) into v.
-    void judge_depth(const detail::Triangle& t, double x, double y, PixelVerdict& v) const;
+    void judge_depth(const detail::Triangle& t, double x, double y, double depth_px, PixelVerdict& v) const;
     /// The view depths of t's visible part within EPS (a square) of raster (x, y); false if none.
     bool window_depths(const detail::Triangle& t, double x, double y, double* lo, double* hi) const;
     template <class RowFn> CompareReport by_rows(std::size_t max_reported, RowFn row) const;

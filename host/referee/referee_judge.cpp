@@ -40,6 +40,13 @@ void check_size(const Referee::Impl& impl, const HostVisibility& v, const char* 
                                                       std::to_string(pixels) + " pixels");
 }
 
+void check_options(const CompareOptions& o)
+{
+    if (!(o.depth_px >= referee_depth_judge_px && o.depth_px < 1))
+        throw Error(Error::Kind::InvalidArgument, "referee: CompareOptions::depth_px must lie in [1/65536, 1) px, got " +
+                                                      std::to_string(o.depth_px));
+}
+
 SampleAnswer answer_at(const HostVisibility& v, int x, int y, bool depths)
 {
     SampleAnswer a;
@@ -94,7 +101,7 @@ void tally(CompareReport& r, const PixelVerdict& va, const PixelVerdict* pb, boo
 
 } // namespace
 
-PixelVerdict Referee::Impl::judge(int x, int y, const SampleAnswer& answer, const Nearest& n) const
+PixelVerdict Referee::Impl::judge(int x, int y, const SampleAnswer& answer, const Nearest& n, double depth_px) const
 {
     PixelVerdict v;
     v.x = x;
@@ -116,7 +123,7 @@ PixelVerdict Referee::Impl::judge(int x, int y, const SampleAnswer& answer, cons
         if (answer.has_depth) v.depth_error = DepthError::NoTriangle;
         return v;
     }
-    if (answer.has_depth) judge_depth(tris[answer.id], x + 0.5, y + 0.5, v);
+    if (answer.has_depth) judge_depth(tris[answer.id], x + 0.5, y + 0.5, depth_px, v);
     TriangleAtSample s = classify_id(answer.id, x, y);
     v.depth = s.depth;
     if (s.cls == SampleClass::Out) {
@@ -181,7 +188,7 @@ bool Referee::Impl::window_depths(const Triangle& t, double x, double y, double*
     return true;
 }
 
-void Referee::Impl::judge_depth(const Triangle& t, double x, double y, PixelVerdict& v) const
+void Referee::Impl::judge_depth(const Triangle& t, double x, double y, double depth_px, PixelVerdict& v) const
 {
     double nan = std::numeric_limits<double>::quiet_NaN();
     v.depth_expected = v.depth_lo = v.depth_hi = nan;
@@ -192,7 +199,7 @@ void Referee::Impl::judge_depth(const Triangle& t, double x, double y, PixelVerd
         if (std::isfinite(d) && d > 0) {
             // d = num / det, so grad d = (grad num - d grad det) / det, in depth per raster pixel.
             double gx = (t.num.a - d * t.det.a) / den, gy = (t.num.b - d * t.det.b) / den;
-            double tol = referee_depth_judge_rel * d + std::hypot(gx, gy) * referee_depth_judge_px;
+            double tol = referee_depth_judge_rel * d + std::hypot(gx, gy) * depth_px;
             v.depth_expected = d;
             v.depth_lo = d - tol;
             v.depth_hi = d + tol;
@@ -307,7 +314,7 @@ PixelVerdict Referee::judge(int x, int y, std::uint32_t id) const
 PixelVerdict Referee::judge(int x, int y, const SampleAnswer& answer) const
 {
     referee_check_pixel(*impl_, x, y);
-    return impl_->judge(x, y, answer, impl_->nearest(x, y));
+    return impl_->judge(x, y, answer, impl_->nearest(x, y), referee_depth_judge_px);
 }
 
 CompareReport Referee::compare(const HostVisibility& a, const HostVisibility& b, const CompareOptions& options) const
@@ -315,6 +322,7 @@ CompareReport Referee::compare(const HostVisibility& a, const HostVisibility& b,
     const Impl& im = *impl_;
     check_size(im, a, "first");
     check_size(im, b, "second");
+    check_options(options);
     bool depths = !a.depth.empty() && !b.depth.empty();
     CompareReport total = im.by_rows(options.max_reported, [&](int y, CompareReport& r) {
         for (int x = 0; x < im.width; ++x) {
@@ -328,8 +336,8 @@ CompareReport Referee::compare(const HostVisibility& a, const HostVisibility& b,
             }
             ++r.judged;
             Impl::Nearest n = im.nearest(x, y);
-            PixelVerdict va = im.judge(x, y, sa, n);
-            PixelVerdict vb = same_id && same_depth ? va : im.judge(x, y, sb, n);
+            PixelVerdict va = im.judge(x, y, sa, n, options.depth_px);
+            PixelVerdict vb = same_id && same_depth ? va : im.judge(x, y, sb, n, options.depth_px);
             tally(r, va, &vb, same_id, same_depth, options.max_reported);
         }
     });
@@ -341,13 +349,14 @@ CompareReport Referee::check(const HostVisibility& a, const CompareOptions& opti
 {
     const Impl& im = *impl_;
     check_size(im, a, "checked");
+    check_options(options);
     bool depths = !a.depth.empty();
     CompareReport total = im.by_rows(options.max_reported, [&](int y, CompareReport& r) {
         for (int x = 0; x < im.width; ++x) {
             ++r.pixels;
             ++r.judged;
             Impl::Nearest n = im.nearest(x, y);
-            PixelVerdict v = im.judge(x, y, answer_at(a, x, y, depths), n);
+            PixelVerdict v = im.judge(x, y, answer_at(a, x, y, depths), n, options.depth_px);
             // As a comparison with the reference answer: ids equal to it, depths equal to the
             // exact depth rounded to float.
             bool same_depth = depths && (v.answer_depth == float(v.depth_expected));

@@ -139,6 +139,12 @@ struct CompareOptions {
     /// pass. Off by default: every pixel of both is judged.
     bool differing_only = false;
     std::size_t max_reported = 20;
+    /// The distance in px over which the depth gradient is allowed in the depth tolerance:
+    /// CONVENTIONS.md's 1/65536 px (the raster path's snapping). Float32 positions are uncertain
+    /// by more far from the origin and on large images (about M 2^-24 world units, and width
+    /// 2^-24 px per operation in raster space); a caller that knows its inputs are less precise
+    /// may widen this (to at most 1 px, never below the default), and should say so.
+    double depth_px = referee_depth_judge_px;
 };
 
 class Referee {
