@@ -1,8 +1,9 @@
-/* Ray casting shared by the ray kernels (ray_trace.cl, ray_brute.cl) and the host tests: the
-   watertight ray/triangle test of Woop, Benthin and Wald (JCGT 2013) and the conservative slab
-   test of Ize ("Robust BVH Ray Traversal", JCGT 2013), so that float rounding never culls a box
-   that a ray touches. ray_trace.cl runs the same operations on 16 rays at once (OpenCL vectors);
-   these scalar forms define the bits and are what host tests check. */
+/* Ray casting shared by the ray kernels (ray_trace.cl, ray_brute.cl, ray_query*.cl) and the host
+   tests: the watertight ray/triangle test of Woop, Benthin and Wald (JCGT 2013), its half-open
+   form for hit counts, and the conservative slab test of Ize ("Robust BVH Ray Traversal", JCGT
+   2013), so that float rounding never culls a box that a ray touches. ray_trace.cl runs the
+   same operations on 16 rays at once (OpenCL vectors); these scalar forms
+   define the bits and are what host tests check. */
 #ifndef CLVIS_SHARED_RAY_H
 #define CLVIS_SHARED_RAY_H
 
@@ -57,48 +58,121 @@ static inline clvis_ray_shear clvis_make_shear(clvis_vec3 origin, clvis_vec3 dir
     return s;
 }
 
-/* The watertight test of the ray against triangle (a, b, c), both sides, edges inclusive: rays
-   through an edge or vertex shared by two triangles hit at least one of them, whatever the order
-   of the vertices. A degenerate triangle (zero area seen along the ray) never hits. Returns 1
-   and the ray parameter in *t when the hit lies in [near, far] and `cull` (CLVIS_CULL_*) keeps the
-   triangle: the determinant is positive where the triangle is front-facing (its normal
-   cross(b - a, c - a) points against the ray, shared/visibility.h). The same float operations on
-   host and device (no contraction: shared/types.h), so host tests check what kernels compute. */
-static inline int clvis_intersect_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
-                                           float near_t, float far_t, int cull, float* t)
+/* Triangle (a, b, c) in the sheared frame of a ray, which sits at the 2D origin: the vertices'
+   2D positions, their depths along kz, and the edge functions u (edge b->c), v (c->a), w (a->b),
+   which are the barycentric weights of a, b and c times det = u + v + w. Each edge is evaluated
+   with the same operations in both triangles that share it (only the sign flips), so no ray
+   passes between them. */
+typedef struct clvis_tri_2d {
+    float ax, ay, bx, by, cx, cy;   /* sheared 2D positions, world units */
+    float akz, bkz, ckz;            /* vertex minus origin along the axis kz */
+    float u, v, w;                  /* edge functions of b->c, c->a, a->b */
+} clvis_tri_2d;
+
+static inline clvis_tri_2d clvis_project_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c)
 {
+    clvis_tri_2d p;
     clvis_vec3 A, B, C;
     A.x = a.x - s.origin.x; A.y = a.y - s.origin.y; A.z = a.z - s.origin.z;
     B.x = b.x - s.origin.x; B.y = b.y - s.origin.y; B.z = b.z - s.origin.z;
     C.x = c.x - s.origin.x; C.y = c.y - s.origin.y; C.z = c.z - s.origin.z;
-    float akz = clvis_component(A, s.kz), bkz = clvis_component(B, s.kz), ckz = clvis_component(C, s.kz);
-    float ax = clvis_component(A, s.kx) - s.sx * akz;
-    float ay = clvis_component(A, s.ky) - s.sy * akz;
-    float bx = clvis_component(B, s.kx) - s.sx * bkz;
-    float by = clvis_component(B, s.ky) - s.sy * bkz;
-    float cx = clvis_component(C, s.kx) - s.sx * ckz;
-    float cy = clvis_component(C, s.ky) - s.sy * ckz;
-    /* Edge functions: each edge is evaluated with the same operations in both triangles that
-       share it (only the sign flips), so no ray passes between them. */
-    float u = cx * by - cy * bx;
-    float v = ax * cy - ay * cx;
-    float w = bx * ay - by * ax;
+    p.akz = clvis_component(A, s.kz); p.bkz = clvis_component(B, s.kz); p.ckz = clvis_component(C, s.kz);
+    p.ax = clvis_component(A, s.kx) - s.sx * p.akz;
+    p.ay = clvis_component(A, s.ky) - s.sy * p.akz;
+    p.bx = clvis_component(B, s.kx) - s.sx * p.bkz;
+    p.by = clvis_component(B, s.ky) - s.sy * p.bkz;
+    p.cx = clvis_component(C, s.kx) - s.sx * p.ckz;
+    p.cy = clvis_component(C, s.ky) - s.sy * p.ckz;
+    p.u = p.cx * p.by - p.cy * p.bx;
+    p.v = p.ax * p.cy - p.ay * p.cx;
+    p.w = p.bx * p.ay - p.by * p.ax;
 #ifdef CLVIS_HAVE_DOUBLE
     /* An edge function that rounds to zero may have cancelled a non-zero value (a ray in the
        plane of a triangle seen edge-on): recompute all three in double, where products of floats
-       are exact and the sign of their difference is right (Woop et al., section 3). */
-    if (u == 0.0f || v == 0.0f || w == 0.0f) {
-        u = (float)((double)cx * (double)by - (double)cy * (double)bx);
-        v = (float)((double)ax * (double)cy - (double)ay * (double)cx);
-        w = (float)((double)bx * (double)ay - (double)by * (double)ax);
+       are exact and the sign of their difference is right (Woop et al., section 3). A float
+       difference of rounded products never has the wrong sign, only a false zero, so every
+       edge function now has the sign of its exact value. */
+    if (p.u == 0.0f || p.v == 0.0f || p.w == 0.0f) {
+        p.u = (float)((double)p.cx * (double)p.by - (double)p.cy * (double)p.bx);
+        p.v = (float)((double)p.ax * (double)p.cy - (double)p.ay * (double)p.cx);
+        p.w = (float)((double)p.bx * (double)p.ay - (double)p.by * (double)p.ax);
     }
 #endif
-    int inside = (u >= 0.0f && v >= 0.0f && w >= 0.0f) || (u <= 0.0f && v <= 0.0f && w <= 0.0f);
-    float det = u + v + w;
-    float tz = u * (s.sz * akz) + v * (s.sz * bkz) + w * (s.sz * ckz);
-    float tt = tz / det;
+    return p;
+}
+
+/* The ray parameter of the projected triangle's plane (det = u + v + w, non-zero). */
+static inline float clvis_triangle_t(clvis_ray_shear s, clvis_tri_2d p, float det)
+{
+    float tz = p.u * (s.sz * p.akz) + p.v * (s.sz * p.bkz) + p.w * (s.sz * p.ckz);
+    return tz / det;
+}
+
+/* The watertight test of the ray against triangle (a, b, c), both sides, edges inclusive: rays
+   through an edge or vertex shared by two triangles hit at least one of them, whatever the order
+   of the vertices. A degenerate triangle (zero area seen along the ray) never hits, nor does a
+   ray in the triangle's plane. Returns 1 and the ray parameter in *t when the hit lies in
+   [near, far] and `cull` (CLVIS_CULL_*) keeps the triangle: the determinant is positive where
+   the triangle is front-facing (its normal cross(b - a, c - a) points against the ray,
+   shared/visibility.h). The same float operations on host and device (no contraction:
+   shared/types.h), so host tests check what kernels compute. */
+static inline int clvis_intersect_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
+                                           float near_t, float far_t, int cull, float* t)
+{
+    clvis_tri_2d p = clvis_project_triangle(s, a, b, c);
+    int inside = (p.u >= 0.0f && p.v >= 0.0f && p.w >= 0.0f) || (p.u <= 0.0f && p.v <= 0.0f && p.w <= 0.0f);
+    float det = p.u + p.v + p.w;
+    float tt = clvis_triangle_t(s, p, det);
     *t = tt;
     return inside && det != 0.0f && tt >= near_t && tt <= far_t && clvis_cull_keeps(cull, det > 0.0f, det < 0.0f);
+}
+
+/* The same test (no culling) also giving the barycentrics of the hit (CONVENTIONS.md: the weights of b and
+   c, the hit point (1 - u - v) a + u b + v c). */
+static inline int clvis_intersect_triangle_uv(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
+                                              float near_t, float far_t, float* t, float* bu, float* bv)
+{
+    clvis_tri_2d p = clvis_project_triangle(s, a, b, c);
+    int inside = (p.u >= 0.0f && p.v >= 0.0f && p.w >= 0.0f) || (p.u <= 0.0f && p.v <= 0.0f && p.w <= 0.0f);
+    float det = p.u + p.v + p.w;
+    float tt = clvis_triangle_t(s, p, det);
+    *t = tt;
+    *bu = p.v / det;
+    *bv = p.w / det;
+    return inside && det != 0.0f && tt >= near_t && tt <= far_t;
+}
+
+/* The side of edge p->q on which the ray lies, as -1, 0 or +1, with an edge function e that is
+   exactly zero (the ray meets the edge's line) decided as if the ray were moved by (eps, eps^2)
+   in the sheared plane, eps -> 0+: by the sign of e's gradient with respect to the ray's
+   position, (qy - py, px - qx), first component first. This is simulation of simplicity: every
+   triangle tested against one ray sees the same moved ray, and a shared edge flips the gradient
+   with the edge function, so a ray through an edge or a vertex of a closed mesh lies inside
+   exactly the triangles that the moved ray crosses. 0 only for an edge of zero length. */
+static inline int clvis_edge_side(float e, float px, float py, float qx, float qy)
+{
+    if (e != 0.0f) return e > 0.0f ? 1 : -1;
+    float gx = qy - py; /* a float difference has the exact sign of the real one */
+    if (gx != 0.0f) return gx > 0.0f ? 1 : -1;
+    float gy = px - qx;
+    return gy > 0.0f ? 1 : (gy < 0.0f ? -1 : 0);
+}
+
+/* The half-open watertight test for hit counts: edges and vertices belong to exactly one of the
+   triangles that share them (clvis_edge_side), so a ray crossing a closed mesh through an edge or
+   a vertex counts one crossing, and a ray grazing a silhouette edge counts none or two. A ray in
+   the triangle's plane or a degenerate triangle never hits. */
+static inline int clvis_intersect_triangle_half_open(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
+                                                     float near_t, float far_t, float* t)
+{
+    clvis_tri_2d p = clvis_project_triangle(s, a, b, c);
+    int su = clvis_edge_side(p.u, p.bx, p.by, p.cx, p.cy);
+    int sv = clvis_edge_side(p.v, p.cx, p.cy, p.ax, p.ay);
+    int sw = clvis_edge_side(p.w, p.ax, p.ay, p.bx, p.by);
+    float det = p.u + p.v + p.w;
+    float tt = clvis_triangle_t(s, p, det);
+    *t = tt;
+    return su != 0 && su == sv && su == sw && det != 0.0f && tt >= near_t && tt <= far_t;
 }
 
 /* A ray prepared for the slab test: 1 / direction per axis (+-inf where a component is +-0) and
