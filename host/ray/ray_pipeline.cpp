@@ -152,6 +152,10 @@ void RayPipeline::update(const Scene& scene, cl::CommandQueue& queue)
 bool RayPipeline::built() const { return impl_->built; }
 
 const BvhStats& RayPipeline::stats() const { return impl_->stats; }
+const cl::Buffer& RayPipeline::nodes() const { return impl_->nodes; }
+const cl::Buffer& RayPipeline::triangles() const { return impl_->tris; }
+std::uint32_t RayPipeline::node_count() const { return std::uint32_t(impl_->wide.nodes.size()); }
+int RayPipeline::wide_depth() const { return impl_->wide.depth; }
 
 void RayPipeline::render(const DeviceScene& scene, Frame& frame, bool brute)
 {

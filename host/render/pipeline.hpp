@@ -101,6 +101,13 @@ public:
     /// triangle when `brute`) writing every key of frame.keys.
     void render(const DeviceScene& scene, Frame& frame, bool brute);
 
+    /// The resident BVH as ray_trace.cl reads it, for the ray queries (ray_query.cpp): 4-wide
+    /// nodes, leaf triangles, the node count and the 4-wide tree's depth. Valid once built.
+    const cl::Buffer& nodes() const;
+    const cl::Buffer& triangles() const;
+    std::uint32_t node_count() const;
+    int wide_depth() const;
+
     struct Impl;
 
 private:

@@ -10,6 +10,8 @@
 #include <clvis/image.hpp>
 #include <clvis/math.hpp>
 #include <clvis/procedural.hpp>
+#include <clvis/ray_query.hpp>
+#include <clvis/rays.hpp>
 #include <clvis/referee.hpp>
 #include <clvis/render_options.hpp>
 #include <clvis/renderer.hpp>

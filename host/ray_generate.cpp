@@ -1,0 +1,135 @@
+// Rays made on the device from a visibility buffer (kernels/ray_generate.cl) and answered by the
+// any-hit query (ray_query.cpp), in chunks of pixels so device memory stays bounded: ambient
+// occlusion and shadows toward a point light, resolved per pixel on the host.
+#include "ray_query_impl.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <string>
+
+namespace clvis {
+
+using namespace detail;
+
+namespace {
+
+/// Lifts ray origins off the surface by this fraction of the scene's diagonal (world units), so
+/// that a ray does not meet its own triangle through the rounding of the visible point.
+constexpr double surface_offset = 1e-4;
+
+/// Throws unless `vis` can be read by `r`'s kernels.
+void check_buffer(Renderer::Impl& r, const VisibilityBuffer& vis, const char* what)
+{
+    if (vis.empty()) throw Error(Error::Kind::InvalidArgument, std::string(what) + ": empty visibility buffer");
+    if (vis.device().context() != r.device.context())
+        throw Error(Error::Kind::InvalidArgument, std::string(what) + ": the buffer belongs to another OpenCL context");
+}
+
+double diagonal(const Scene& scene)
+{
+    Bounds b = scene.bounds();
+    Vec3 d = b.hi - b.lo;
+    double len = length(d);
+    return std::isfinite(len) && len > 0 ? len : 1.0;
+}
+
+} // namespace
+
+/// Generates `per_pixel` rays per pixel with `generate` (its arguments from 9 on set by
+/// `extra_args`), answers them with the any-hit query, and averages the unoccluded rays.
+static PixelRays pixel_rays(RayQuery::Impl& m, const VisibilityBuffer& vis, const Camera& camera, int per_pixel,
+                            cl::Kernel& generate, const std::function<void(cl::Kernel&)>& extra_args)
+{
+    auto t0 = std::chrono::steady_clock::now();
+    Renderer::Impl& r = m.r;
+    camera.validate();
+    PixelRays out;
+    out.width = vis.width();
+    out.height = vis.height();
+    std::size_t pixels = std::size_t(out.width) * std::size_t(out.height);
+    out.value.assign(pixels, 1.0f);
+    std::size_t chunk = std::max<std::size_t>(1, m.options.batch_rays / std::size_t(per_pixel));
+    chunk = std::min(chunk, pixels);
+    std::size_t chunk_rays = chunk * std::size_t(per_pixel);
+    r.dev().check_allocation(chunk_rays * sizeof(RayRecord), "a chunk of " + std::to_string(chunk_rays) + " generated rays");
+    std::vector<std::uint8_t> flags(chunk_rays);
+    std::vector<std::uint64_t> keys = vis.read_keys();
+    std::size_t background_rays = 0;
+    try {
+        cl::Buffer rays(r.dev().context, CL_MEM_READ_WRITE, chunk_rays * sizeof(RayRecord));
+        cl::Buffer hit(r.dev().context, CL_MEM_READ_WRITE, chunk_rays);
+        clvis_camera_gpu g = make_gpu_camera(camera, out.width, out.height);
+        generate.setArg(0, cl::Buffer(vis.keys(), true));
+        generate.setArg(1, sizeof g, &g);
+        generate.setArg(2, r.gpu.positions);
+        generate.setArg(3, r.gpu.indices);
+        generate.setArg(6, cl_uint(per_pixel));
+        generate.setArg(7, float(surface_offset * diagonal(r.scene)));
+        generate.setArg(8, rays);
+        extra_args(generate);
+        for (std::size_t first = 0; first < pixels; first += chunk) {
+            std::size_t n = std::min(chunk, pixels - first), n_rays = n * std::size_t(per_pixel);
+            generate.setArg(4, cl_uint(first));
+            generate.setArg(5, cl_uint(n));
+            r.queue.enqueueNDRangeKernel(generate, cl::NullRange, cl::NDRange(round_up(n_rays, 64)), cl::NDRange(64));
+            DeviceRays in{rays(), RayLayout::AoS, n_rays, 0};
+            DeviceResults res{hit(), RayLayout::AoS, 0};
+            RayQueryStats s = m.run(RayQueryKind::Any, m.source(in), m.device_sink(RayQueryKind::Any, res, n_rays));
+            r.queue.enqueueReadBuffer(hit, CL_TRUE, 0, n_rays, flags.data());
+            out.stats.rays += s.rays;
+            out.stats.invalid += s.invalid;
+            out.stats.batches += s.batches;
+            out.stats.device_ms += s.device_ms;
+            for (std::size_t p = 0; p < n; ++p) {
+                if (std::uint32_t(keys[first + p]) == background_id) {
+                    background_rays += std::size_t(per_pixel);
+                    continue;
+                }
+                int open = 0;
+                for (int k = 0; k < per_pixel; ++k) open += flags[p * std::size_t(per_pixel) + std::size_t(k)] == 0;
+                out.value[first + p] = float(open) / float(per_pixel);
+            }
+        }
+    } catch (const cl::Error& e) {
+        throw_cl_error(e, "generating rays from a visibility buffer");
+    }
+    // Background pixels get rays of zero direction: not the caller's invalid rays.
+    out.stats.invalid -= std::min(out.stats.invalid, background_rays);
+    out.stats.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return out;
+}
+
+PixelRays RayQuery::ambient_occlusion(const VisibilityBuffer& vis, const Camera& camera, const AoOptions& options)
+{
+    Impl& m = *impl_;
+    check_buffer(m.r, vis, "ambient_occlusion");
+    if (options.rays < 1 || options.rays > 1024)
+        throw Error(Error::Kind::InvalidArgument,
+                    "ambient_occlusion: rays per pixel must lie in [1, 1024], got " + std::to_string(options.rays));
+    if (!std::isfinite(options.distance) || options.distance < 0)
+        throw Error(Error::Kind::InvalidArgument, "ambient_occlusion: the distance must be finite and >= 0");
+    float distance = options.distance > 0 ? options.distance : float(0.1 * diagonal(m.r.scene));
+    if (!m.generate_ao()) m.generate_ao = cl::Kernel(m.r.dev().program("ray_generate"), "ray_generate_ao");
+    return pixel_rays(m, vis, camera, options.rays, m.generate_ao, [&](cl::Kernel& k) {
+        k.setArg(9, distance);
+        k.setArg(10, cl_uint(options.seed & 0xFFFFFFFFu));
+        k.setArg(11, cl_uint(options.seed >> 32));
+    });
+}
+
+PixelRays RayQuery::shadows(const VisibilityBuffer& vis, const Camera& camera, const Vec3& light)
+{
+    Impl& m = *impl_;
+    check_buffer(m.r, vis, "shadows");
+    if (!is_finite(light)) throw Error(Error::Kind::InvalidArgument, "shadows: the light position must be finite");
+    if (!m.generate_shadow()) m.generate_shadow = cl::Kernel(m.r.dev().program("ray_generate"), "ray_generate_shadow");
+    return pixel_rays(m, vis, camera, 1, m.generate_shadow, [&](cl::Kernel& k) {
+        k.setArg(9, float(light.x));
+        k.setArg(10, float(light.y));
+        k.setArg(11, float(light.z));
+    });
+}
+
+} // namespace clvis

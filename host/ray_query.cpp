@@ -1,0 +1,300 @@
+// Ray queries through a Renderer's resident scene and BVH: uploads the caller's rays batch by
+// batch (or reads them from the caller's cl_mem), launches kernels/ray_query.cl and reads the
+// answers back into the caller's storage. Batches keep device memory bounded whatever the count.
+// The rays generated from visibility buffers (ambient occlusion, shadows) are in ray_generate.cpp.
+#include "ray_query_impl.hpp"
+
+#include "shared/ray_query.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <string>
+
+namespace clvis {
+
+using namespace detail;
+
+static_assert(sizeof(clvis_ray_rec) == sizeof(RayRecord), "layout shared with kernels/shared/ray_query.h");
+static_assert(sizeof(clvis_hit_rec) == sizeof(HitRecord), "layout shared with kernels/shared/ray_query.h");
+
+const char* to_string(RayQueryKind kind) noexcept
+{
+    switch (kind) {
+    case RayQueryKind::Closest: return "closest";
+    case RayQueryKind::Any: return "any";
+    case RayQueryKind::Count: return "count";
+    }
+    return "unknown";
+}
+
+RayQueryKind ray_query_kind_from_string(const char* name)
+{
+    for (RayQueryKind k : {RayQueryKind::Closest, RayQueryKind::Any, RayQueryKind::Count})
+        if (std::string(name) == to_string(k)) return k;
+    throw Error(Error::Kind::InvalidArgument, std::string("unknown ray query '") + name + "' (closest, any or count)");
+}
+
+bool ray_is_valid(const RayRecord& ray) noexcept
+{
+    clvis_ray_rec r;
+    std::memcpy(&r, &ray, sizeof r);
+    return clvis_ray_valid(r) != 0;
+}
+
+namespace {
+
+/// The traversal stack grows in steps of this many entries (each step is one program build).
+constexpr int stack_step = 16;
+/// Work-items per work-group at most (one ray each).
+constexpr std::size_t group_items = 64;
+
+std::size_t result_bytes(RayQueryKind kind) { return kind == RayQueryKind::Closest ? 16 : kind == RayQueryKind::Any ? 1 : 4; }
+
+/// Throws unless `mem` belongs to `context` and holds at least `bytes`.
+void check_device_buffer(cl_mem mem, cl_context context, std::uint64_t bytes, const char* what)
+{
+    if (!mem) throw Error(Error::Kind::InvalidArgument, std::string("ray query: the ") + what + " buffer is null");
+    cl_context owner = nullptr;
+    std::size_t size = 0;
+    if (clGetMemObjectInfo(mem, CL_MEM_CONTEXT, sizeof owner, &owner, nullptr) != CL_SUCCESS ||
+        clGetMemObjectInfo(mem, CL_MEM_SIZE, sizeof size, &size, nullptr) != CL_SUCCESS)
+        throw Error(Error::Kind::InvalidArgument, std::string("ray query: the ") + what + " buffer is not a valid cl_mem");
+    if (owner != context)
+        throw Error(Error::Kind::InvalidArgument,
+                    std::string("ray query: the ") + what + " buffer belongs to another OpenCL context");
+    if (size < bytes)
+        throw Error(Error::Kind::InvalidArgument, std::string("ray query: the ") + what + " buffer holds " +
+                                                      std::to_string(size) + " bytes, the call needs " +
+                                                      std::to_string(bytes));
+}
+
+} // namespace
+
+RayQuery::Impl::Impl(Renderer& renderer, const RayQueryOptions& o) : r(RendererAccess::of(renderer)), options(o)
+{
+    if (options.batch_rays < 1 || options.batch_rays > (std::size_t(1) << 28))
+        throw Error(Error::Kind::InvalidArgument,
+                    "ray query: batch_rays must lie in [1, 2^28], got " + std::to_string(options.batch_rays));
+    if (!options.brute) r.ray_pipeline(true);
+}
+
+cl::Kernel& RayQuery::Impl::kernel(RayQueryKind kind)
+{
+    int depth = options.brute ? 0 : r.ray->wide_depth();
+    int stack = ((3 * depth + 1) / stack_step + 1) * stack_step;
+    Built& b = built[int(kind)];
+    if (b.stack != stack) {
+        std::string defs = "-DCLVIS_QUERY=" + std::to_string(int(kind)) + " -DCLVIS_RAY_STACK=" + std::to_string(stack);
+        b.kernel = cl::Kernel(r.dev().program("ray_query", defs), options.brute ? "ray_query_brute" : "ray_query");
+        std::size_t max_group = b.kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(r.dev().device);
+        b.group = std::max<std::size_t>(1, std::min(group_items, max_group));
+        b.stack = stack;
+    }
+    return b.kernel;
+}
+
+void RayQuery::Impl::reserve(std::size_t rays)
+{
+    if (rays <= capacity) return;
+    std::uint64_t ray_bytes = std::uint64_t(rays) * sizeof(RayRecord), hit_bytes = std::uint64_t(rays) * sizeof(HitRecord);
+    r.dev().check_allocation(ray_bytes, "a batch of " + std::to_string(rays) + " rays");
+    try {
+        staged_rays = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, ray_bytes);
+        staged_out = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, hit_bytes);
+        if (!invalid()) invalid = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, sizeof(cl_uint));
+    } catch (const cl::Error& e) {
+        throw_cl_error(e, "allocating ray query buffers of " + std::to_string(rays) + " rays");
+    }
+    capacity = rays;
+}
+
+/// One batch: [first, first + m) of `src` into `dst`.
+void RayQuery::Impl::batch(RayQueryKind kind, const Source& src, const Sink& dst, std::size_t first, std::size_t m,
+                           RayQueryStats& stats)
+{
+    cl::CommandQueue& q = r.queue;
+    cl::Buffer rays = staged_rays, out = staged_out;
+    cl_int ray_layout = CLVIS_LAYOUT_AOS, out_layout = CLVIS_LAYOUT_AOS;
+    cl_ulong ray_stride = capacity, ray_offset = 0, out_stride = capacity, out_offset = 0;
+    const RayInput& in = src.in;
+    if (in.on_device) {
+        rays = cl::Buffer(in.device.buffer, true);
+        ray_layout = in.device.layout == RayLayout::SoA ? CLVIS_LAYOUT_SOA : CLVIS_LAYOUT_AOS;
+        ray_stride = src.stride;
+        ray_offset = first;
+    } else if (!in.soa) {
+        q.enqueueWriteBuffer(staged_rays, CL_FALSE, 0, m * sizeof(RayRecord), in.records + first);
+    } else {
+        const RaySoA& f = in.fields;
+        const float* fields[CLVIS_RAY_FIELDS] = {f.ox, f.oy, f.oz, f.tmin, f.dx, f.dy, f.dz, f.tmax};
+        for (int k = 0; k < CLVIS_RAY_FIELDS; ++k)
+            q.enqueueWriteBuffer(staged_rays, CL_FALSE, k * capacity * 4, m * 4, fields[k] + first);
+        ray_layout = CLVIS_LAYOUT_SOA;
+    }
+    if (dst.device) {
+        out = cl::Buffer(dst.device->buffer, true);
+        out_layout = dst.device->layout == RayLayout::SoA ? CLVIS_LAYOUT_SOA : CLVIS_LAYOUT_AOS;
+        out_stride = dst.stride;
+        out_offset = first;
+    } else if (dst.soa) {
+        out_layout = CLVIS_LAYOUT_SOA;
+    }
+    cl_uint zero = 0;
+    q.enqueueWriteBuffer(invalid, CL_FALSE, 0, sizeof zero, &zero);
+
+    cl::Kernel& k = kernel(kind);
+    std::size_t group = built[int(kind)].group;
+    int a = 0;
+    if (options.brute) {
+        k.setArg(a++, r.gpu.positions);
+        k.setArg(a++, r.gpu.indices);
+        k.setArg(a++, cl_uint(r.gpu.triangle_count));
+    } else {
+        k.setArg(a++, r.ray->nodes());
+        k.setArg(a++, cl_uint(r.ray->node_count()));
+        k.setArg(a++, r.ray->triangles());
+    }
+    k.setArg(a++, rays);
+    k.setArg(a++, ray_layout);
+    k.setArg(a++, ray_stride);
+    k.setArg(a++, ray_offset);
+    k.setArg(a++, cl_uint(m));
+    k.setArg(a++, out);
+    k.setArg(a++, out_layout);
+    k.setArg(a++, out_stride);
+    k.setArg(a++, out_offset);
+    k.setArg(a++, invalid);
+    cl::Event done;
+    q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(m, group)), cl::NDRange(group), nullptr, &done);
+
+    if (dst.soa) {
+        void* fields[CLVIS_HIT_FIELDS] = {dst.soa->t, dst.soa->id, dst.soa->u, dst.soa->v};
+        for (int f = 0; f < CLVIS_HIT_FIELDS; ++f)
+            q.enqueueReadBuffer(staged_out, CL_FALSE, f * capacity * 4, m * 4, static_cast<char*>(fields[f]) + first * 4);
+    } else if (dst.host) {
+        std::size_t bytes = result_bytes(kind);
+        q.enqueueReadBuffer(staged_out, CL_FALSE, 0, m * bytes, static_cast<char*>(dst.host) + first * bytes);
+    }
+    cl_uint bad = 0;
+    q.enqueueReadBuffer(invalid, CL_TRUE, 0, sizeof bad, &bad);
+    stats.invalid += bad;
+    stats.batches += 1;
+    stats.device_ms += (done.getProfilingInfo<CL_PROFILING_COMMAND_END>() -
+                        done.getProfilingInfo<CL_PROFILING_COMMAND_START>()) * 1e-6;
+}
+
+RayQueryStats RayQuery::Impl::run(RayQueryKind kind, const Source& src, const Sink& dst)
+{
+    auto t0 = std::chrono::steady_clock::now();
+    RayQueryStats stats;
+    std::size_t n = src.in.count;
+    stats.rays = n;
+    if (n == 0) return stats;
+    if (!options.brute) r.ray_pipeline(true);
+    try {
+        reserve(std::min(n, options.batch_rays));
+        for (std::size_t first = 0; first < n; first += capacity)
+            batch(kind, src, dst, first, std::min(capacity, n - first), stats);
+    } catch (const cl::Error& e) {
+        throw_cl_error(e, std::string("answering a ray query (") + to_string(kind) + ")");
+    }
+    stats.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return stats;
+}
+
+/// Throws when a host array is null while rays are asked for.
+static void require(const void* p, std::size_t n, const char* what)
+{
+    if (n > 0 && !p) throw Error(Error::Kind::InvalidArgument, std::string("ray query: ") + what + " is null");
+}
+
+RayQuery::Impl::Source RayQuery::Impl::source(const RayInput& in)
+{
+    Source s{in};
+    if (!in.on_device && !in.soa) require(in.records, in.count, "the ray array");
+    if (in.soa) {
+        const RaySoA& f = in.fields;
+        for (const float* p : {f.ox, f.oy, f.oz, f.tmin, f.dx, f.dy, f.dz, f.tmax}) require(p, in.count, "a ray field array");
+    }
+    if (!in.on_device) return s;
+    const DeviceRays& rays = in.device;
+    s.stride = rays.stride ? rays.stride : rays.count;
+    if (rays.layout == RayLayout::SoA && s.stride < rays.count)
+        throw Error(Error::Kind::InvalidArgument, "ray query: SoA stride " + std::to_string(rays.stride) +
+                                                      " is below the ray count " + std::to_string(rays.count));
+    std::uint64_t bytes = rays.layout == RayLayout::AoS ? std::uint64_t(rays.count) * sizeof(RayRecord)
+                                                        : (std::uint64_t(7) * s.stride + rays.count) * 4;
+    if (rays.count > 0) check_device_buffer(rays.buffer, r.dev().context(), bytes, "rays");
+    return s;
+}
+
+RayQuery::Impl::Sink RayQuery::Impl::device_sink(RayQueryKind kind, const DeviceResults& out, std::size_t n)
+{
+    Sink s;
+    s.device = &out;
+    bool soa = kind == RayQueryKind::Closest && out.layout == RayLayout::SoA;
+    s.stride = out.stride ? out.stride : n;
+    if (soa && s.stride < n)
+        throw Error(Error::Kind::InvalidArgument, "ray query: SoA stride " + std::to_string(out.stride) +
+                                                      " of the hits is below the ray count " + std::to_string(n));
+    std::uint64_t bytes = soa ? (std::uint64_t(3) * s.stride + n) * 4 : std::uint64_t(n) * result_bytes(kind);
+    if (n > 0) check_device_buffer(out.buffer, r.dev().context(), bytes, "results");
+    return s;
+}
+
+RayQuery::Impl::Sink RayQuery::Impl::host_sink(void* out, std::size_t n)
+{
+    require(out, n, "the result array");
+    Sink s;
+    s.host = out;
+    return s;
+}
+
+RayQuery::RayQuery(Renderer& renderer, RayQueryOptions options) : impl_(std::make_unique<Impl>(renderer, options)) {}
+RayQuery::~RayQuery() = default;
+RayQuery::RayQuery(RayQuery&&) noexcept = default;
+RayQuery& RayQuery::operator=(RayQuery&&) noexcept = default;
+const RayQueryOptions& RayQuery::options() const { return impl_->options; }
+
+RayQueryStats RayQuery::closest(const RayInput& rays, HitRecord* hits)
+{
+    return impl_->run(RayQueryKind::Closest, impl_->source(rays), impl_->host_sink(hits, rays.count));
+}
+
+RayQueryStats RayQuery::closest(const RayInput& rays, const HitSoA& hits)
+{
+    for (const void* f : {static_cast<const void*>(hits.t), static_cast<const void*>(hits.id),
+                          static_cast<const void*>(hits.u), static_cast<const void*>(hits.v)})
+        require(f, rays.count, "a hit field array");
+    Impl::Sink s;
+    s.soa = &hits;
+    return impl_->run(RayQueryKind::Closest, impl_->source(rays), s);
+}
+
+RayQueryStats RayQuery::closest(const RayInput& rays, const DeviceResults& hits)
+{
+    return impl_->run(RayQueryKind::Closest, impl_->source(rays), impl_->device_sink(RayQueryKind::Closest, hits, rays.count));
+}
+
+RayQueryStats RayQuery::occluded(const RayInput& rays, std::uint8_t* flags)
+{
+    return impl_->run(RayQueryKind::Any, impl_->source(rays), impl_->host_sink(flags, rays.count));
+}
+
+RayQueryStats RayQuery::occluded(const RayInput& rays, const DeviceResults& flags)
+{
+    return impl_->run(RayQueryKind::Any, impl_->source(rays), impl_->device_sink(RayQueryKind::Any, flags, rays.count));
+}
+
+RayQueryStats RayQuery::count(const RayInput& rays, std::uint32_t* counts)
+{
+    return impl_->run(RayQueryKind::Count, impl_->source(rays), impl_->host_sink(counts, rays.count));
+}
+
+RayQueryStats RayQuery::count(const RayInput& rays, const DeviceResults& counts)
+{
+    return impl_->run(RayQueryKind::Count, impl_->source(rays), impl_->device_sink(RayQueryKind::Count, counts, rays.count));
+}
+
+} // namespace clvis

@@ -1,0 +1,53 @@
+// The state behind clvis::RayQuery, shared by ray_query.cpp (the queries) and ray_generate.cpp
+// (rays made on the device from visibility buffers).
+#pragma once
+
+#include "renderer_impl.hpp"
+
+#include <clvis/ray_query.hpp>
+
+namespace clvis {
+
+struct RayQuery::Impl {
+    Renderer::Impl& r;
+    RayQueryOptions options;
+
+    /// A query kernel as last built for a stack size (per RayQueryKind).
+    struct Built {
+        cl::Kernel kernel;
+        std::size_t group = 1; ///< work-items per work-group
+        int stack = -1;        ///< CLVIS_RAY_STACK it was built with
+    };
+    Built built[3];
+    cl::Kernel generate_ao, generate_shadow;
+    std::size_t capacity = 0;     ///< rays the staging buffers hold (the SoA stride)
+    cl::Buffer staged_rays;       ///< capacity rays, AoS or SoA
+    cl::Buffer staged_out;        ///< capacity hits, flags or counts
+    cl::Buffer invalid;           ///< one uint: invalid rays seen by a batch
+
+    /// Where a call's rays are, checked.
+    struct Source {
+        RayInput in;
+        std::size_t stride = 0; ///< device SoA: elements per plane
+    };
+    /// Where its results go: exactly one of host (records), soa (closest hits), device.
+    struct Sink {
+        void* host = nullptr;
+        const HitSoA* soa = nullptr;
+        const DeviceResults* device = nullptr;
+        std::size_t stride = 0; ///< device SoA
+    };
+
+    Impl(Renderer& renderer, const RayQueryOptions& options);
+    cl::Kernel& kernel(RayQueryKind kind);
+    void reserve(std::size_t rays);
+    void batch(RayQueryKind kind, const Source& src, const Sink& dst, std::size_t first, std::size_t m,
+               RayQueryStats& stats);
+    RayQueryStats run(RayQueryKind kind, const Source& src, const Sink& dst);
+
+    Source source(const RayInput& rays);
+    Sink host_sink(void* out, std::size_t n);
+    Sink device_sink(RayQueryKind kind, const DeviceResults& out, std::size_t n);
+};
+
+} // namespace clvis

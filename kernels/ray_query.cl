@@ -1,0 +1,239 @@
+/* Answers ray queries for any batch of rays (closest hit, any hit, hit count; CONVENTIONS.md "Ray
+   queries"), one ray per work-item, through the 4-wide BVH that ray_trace.cl reads (shared/bvh.h);
+   ray_query_brute tests every triangle in id order instead, the reference the BVH walk must
+   equal. Rays and results live in buffers of either layout (shared/ray_query.h). Launched by
+   host/ray_query.cpp, built once per query kind (CLVIS_QUERY) and stack size (CLVIS_RAY_STACK).
+   No packet assumption: incoherent rays (ambient occlusion, shadows, random) walk on their own. */
+#include "shared/bvh.h"
+#include "shared/ray.h"
+#include "shared/ray_query.h"
+#include "shared/visibility.h"
+
+#ifndef CLVIS_QUERY
+#error "CLVIS_QUERY must be defined (shared/ray_query.h)"
+#endif
+/* CLVIS_RAY_STACK: entries, at least 3 x the 4-wide tree's depth + 1 (each visited node leaves
+   at most three children besides the one taken). */
+#ifndef CLVIS_RAY_STACK
+#error "CLVIS_RAY_STACK must be defined"
+#endif
+
+#if CLVIS_QUERY == CLVIS_QUERY_ANY
+typedef uchar out_t;
+#else
+typedef uint out_t;
+#endif
+
+/* The answer for one ray so far. */
+typedef struct answer {
+    float t;      /* closest: nearest hit; any, count: tmax */
+    uint id;      /* closest: its id; any: 0 or 1 */
+    float u, v;   /* closest: barycentrics */
+    uint count;   /* count: crossings */
+} answer;
+
+static clvis_ray_rec load_ray(__global const float* rays, int layout, ulong stride, ulong i)
+{
+    float f[CLVIS_RAY_FIELDS];
+    for (int k = 0; k < CLVIS_RAY_FIELDS; ++k)
+        f[k] = layout == CLVIS_LAYOUT_AOS ? rays[i * CLVIS_RAY_FIELDS + (ulong)k] : rays[(ulong)k * stride + i];
+    clvis_ray_rec r = {f[0], f[1], f[2], f[3], f[4], f[5], f[6], f[7]};
+    return r;
+}
+
+static void store_answer(__global out_t* out, int layout, ulong stride, ulong i, answer a)
+{
+#if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
+    uint w[CLVIS_HIT_FIELDS] = {as_uint(a.t), a.id, as_uint(a.u), as_uint(a.v)};
+    for (int k = 0; k < CLVIS_HIT_FIELDS; ++k) {
+        if (layout == CLVIS_LAYOUT_AOS) out[i * CLVIS_HIT_FIELDS + (ulong)k] = w[k];
+        else out[(ulong)k * stride + i] = w[k];
+    }
+#elif CLVIS_QUERY == CLVIS_QUERY_ANY
+    out[i] = (uchar)a.id;
+#else
+    out[i] = a.count;
+#endif
+}
+
+static answer start_answer(clvis_ray_rec r)
+{
+    answer a = {CLVIS_INFINITY, CLVIS_BACKGROUND_ID, 0.0f, 0.0f, 0u};
+#if CLVIS_QUERY != CLVIS_QUERY_CLOSEST
+    a.t = r.tmax;
+    a.id = 0u;
+#endif
+    return a;
+}
+
+/* Tests one triangle; returns 1 when an any-hit query is answered. */
+static int test_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c, uint id, float tmin,
+                         float tmax, answer* ans)
+{
+    float t;
+#if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
+    float u, v;
+    if (clvis_intersect_triangle_uv(s, a, b, c, tmin, tmax, &t, &u, &v)) {
+        t = t + 0.0f; /* -0 becomes +0: the key orders by bits */
+        if (t < ans->t || (t == ans->t && id < ans->id)) {
+            ans->t = t;
+            ans->id = id;
+            ans->u = u;
+            ans->v = v;
+        }
+    }
+    return 0;
+#elif CLVIS_QUERY == CLVIS_QUERY_ANY
+    if (clvis_intersect_triangle(s, a, b, c, tmin, tmax, &t)) {
+        ans->id = 1u;
+        return 1;
+    }
+    return 0;
+#else
+    ans->count += (uint)clvis_intersect_triangle_half_open(s, a, b, c, tmin, tmax, &t);
+    return 0;
+#endif
+}
+
+/* The far end of the interval that a box must reach: the nearest hit so far for closest. */
+static float query_far(clvis_ray_rec r, const answer* a)
+{
+#if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
+    return a->t < r.tmax ? a->t : r.tmax;
+#else
+    return r.tmax;
+#endif
+}
+
+static int leaf(__global const clvis_bvh_tri* tris, uint first, uint n, clvis_ray_shear s, clvis_ray_rec r,
+                answer* a)
+{
+    for (uint k = first; k < first + n; ++k) {
+        __global const clvis_bvh_tri* tr = tris + k;
+        clvis_vec3 v0 = {tr->v0_x, tr->v0_y, tr->v0_z}, v1 = {tr->v1_x, tr->v1_y, tr->v1_z};
+        clvis_vec3 v2 = {tr->v2_x, tr->v2_y, tr->v2_z};
+        if (test_triangle(s, v0, v1, v2, tr->id, r.tmin, query_far(r, a), a)) return 1;
+    }
+    return 0;
+}
+
+/* clvis_ray_hits_box on the four children of a node at once: the same operations lane by lane. */
+static int4 hits_boxes(__global const clvis_bvh4_node* n, clvis_box_ray br, float near_t, float far_t, float4* entry)
+{
+    float4 lox = vload4(0, n->lo_x), hix = vload4(0, n->hi_x);
+    float4 loy = vload4(0, n->lo_y), hiy = vload4(0, n->hi_y);
+    float4 loz = vload4(0, n->lo_z), hiz = vload4(0, n->hi_z);
+    float4 nx = ((br.neg_x ? hix : lox) - br.origin.x) * br.inv.x;
+    float4 ny = ((br.neg_y ? hiy : loy) - br.origin.y) * br.inv.y;
+    float4 nz = ((br.neg_z ? hiz : loz) - br.origin.z) * br.inv.z;
+    float4 fx = ((br.neg_x ? lox : hix) - br.origin.x) * br.inv.x;
+    float4 fy = ((br.neg_y ? loy : hiy) - br.origin.y) * br.inv.y;
+    float4 fz = ((br.neg_z ? loz : hiz) - br.origin.z) * br.inv.z;
+    /* clvis_raise / clvis_lower: a NaN (origin in a slab's plane, 0 * inf) constrains nothing */
+    float4 t0 = (float4)(near_t);
+    t0 = select(t0, nx, nx > t0);
+    t0 = select(t0, ny, ny > t0);
+    t0 = select(t0, nz, nz > t0);
+    float4 t1 = (float4)(CLVIS_INFINITY);
+    t1 = select(t1, fx, fx < t1);
+    t1 = select(t1, fy, fy < t1);
+    t1 = select(t1, fz, fz < t1);
+    t1 = t1 * CLVIS_IZE_SCALE;
+    *entry = t0;
+    return (t0 <= t1) & (t0 <= (float4)(far_t * CLVIS_IZE_SCALE));
+}
+
+/* The walk: children that the ray meets are pushed far to near (closest: by entry distance) as
+   (node << 2 | slot) with their entry distance, and popped while they may still hold a hit
+   before the nearest so far. */
+static void walk(__global const clvis_bvh4_node* nodes, __global const clvis_bvh_tri* tris, clvis_ray_rec r,
+                 answer* a)
+{
+    clvis_vec3 o = {r.ox, r.oy, r.oz}, d = {r.dx, r.dy, r.dz};
+    clvis_ray_shear s = clvis_make_shear(o, d);
+    clvis_box_ray br = clvis_make_box_ray(o, d);
+    uint stack[CLVIS_RAY_STACK];
+    float enter[CLVIS_RAY_STACK];
+    uint sp = 0;
+    uint node = 0;
+    for (;;) {
+        __global const clvis_bvh4_node* n = nodes + node;
+        float4 e4;
+        int4 hit4 = hits_boxes(n, br, r.tmin, query_far(r, a), &e4);
+        float e[4];
+        int h[4];
+        vstore4(e4, 0, e);
+        vstore4(hit4, 0, h);
+        uint first = sp;
+        for (int k = 0; k < 4; ++k) {
+            if (!h[k]) continue;
+            /* insertion from the top: entries above `first` stay sorted, nearest on top */
+            uint i = sp++;
+#if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
+            for (; i > first && enter[i - 1] < e[k]; --i) {
+                stack[i] = stack[i - 1];
+                enter[i] = enter[i - 1];
+            }
+#endif
+            stack[i] = node << 2 | (uint)k;
+            enter[i] = e[k];
+        }
+        node = CLVIS_BACKGROUND_ID;
+        while (sp > 0) {
+            uint ref = stack[--sp];
+            if (enter[sp] > query_far(r, a) * CLVIS_IZE_SCALE) continue;
+            __global const clvis_bvh4_node* p = nodes + (ref >> 2);
+            uint k = ref & 3u, cnt = p->count[k];
+            if (cnt == 0) {
+                node = p->child[k];
+                break;
+            }
+            if (leaf(tris, p->child[k], cnt, s, r, a)) return;
+        }
+        if (node == CLVIS_BACKGROUND_ID) return;
+    }
+}
+
+__kernel void ray_query(__global const clvis_bvh4_node* nodes, uint node_count, __global const clvis_bvh_tri* tris,
+                        __global const float* rays, int ray_layout, ulong ray_stride, ulong ray_offset, uint count,
+                        __global out_t* out, int out_layout, ulong out_stride, ulong out_offset,
+                        __global uint* invalid)
+{
+    uint i = (uint)get_global_id(0);
+    if (i >= count) return;
+    clvis_ray_rec r = load_ray(rays, ray_layout, ray_stride, ray_offset + i);
+    answer a = start_answer(r);
+    if (!clvis_ray_valid(r)) atomic_inc(invalid);
+    else if (node_count > 0) walk(nodes, tris, r, &a);
+    store_answer(out, out_layout, out_stride, out_offset + i, a);
+}
+
+static clvis_vec3 load_vertex(__global const float* positions, uint v)
+{
+    clvis_vec3 p = {positions[3 * (size_t)v], positions[3 * (size_t)v + 1], positions[3 * (size_t)v + 2]};
+    return p;
+}
+
+__kernel void ray_query_brute(__global const float* positions, __global const uint* indices, uint triangle_count,
+                              __global const float* rays, int ray_layout, ulong ray_stride, ulong ray_offset,
+                              uint count, __global out_t* out, int out_layout, ulong out_stride, ulong out_offset,
+                              __global uint* invalid)
+{
+    uint i = (uint)get_global_id(0);
+    if (i >= count) return;
+    clvis_ray_rec r = load_ray(rays, ray_layout, ray_stride, ray_offset + i);
+    answer a = start_answer(r);
+    if (!clvis_ray_valid(r)) {
+        atomic_inc(invalid);
+    } else {
+        clvis_vec3 o = {r.ox, r.oy, r.oz}, d = {r.dx, r.dy, r.dz};
+        clvis_ray_shear s = clvis_make_shear(o, d);
+        for (uint id = 0; id < triangle_count; ++id) {
+            size_t j = 3 * (size_t)id;
+            if (test_triangle(s, load_vertex(positions, indices[j]), load_vertex(positions, indices[j + 1]),
+                              load_vertex(positions, indices[j + 2]), id, r.tmin, r.tmax, &a))
+                break;
+        }
+    }
+    store_answer(out, out_layout, out_stride, out_offset + i, a);
+}
