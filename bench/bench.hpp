@@ -23,4 +23,8 @@ struct BenchConfig {
 /// timed (the error is reported); throws Error(Io) when the output cannot be written.
 void run_bench(const BenchConfig& config, const std::function<Device()>& open_device);
 
+/// The ray-query workloads of bench_rays.cpp on `device` (config.quick, out, repeat, ref_threads,
+/// no_plot): prints a table and writes bench-rays.json, bench-rays.csv and rays_mrays.png.
+void run_ray_bench(const BenchConfig& config, const Device& device);
+
 } // namespace clvis::bench

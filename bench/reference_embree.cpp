@@ -2,6 +2,9 @@
 // CONVENTIONS.md for every pixel centre. Work is split into 16x16 pixel tiles taken from an atomic
 // counter by `threads` std::threads; Embree's own threads (TBB) only build.
 #include "reference_embree.hpp"
+#if CLVIS_HAVE_EMBREE
+#include "reference_embree_rays.hpp"
+#endif
 
 #include <clvis/scene.hpp>
 
@@ -291,6 +294,13 @@ ReferenceResult EmbreeReference::render(const Camera& camera, int width, int hei
     return result;
 }
 
+EmbreeRays EmbreeReference::trace(const RayRecord* rays, std::size_t n, bool occluded, EmbreeMode mode, int repeats)
+{
+    EmbreeRays r = trace_embree_rays(impl_->scene, impl_->threads, rays, n, occluded, mode, repeats);
+    check(impl_->device, occluded ? "rtcOccluded" : "rtcIntersect");
+    return r;
+}
+
 bool embree_available() noexcept { return true; }
 
 } // namespace clvis::bench
@@ -317,6 +327,10 @@ const std::vector<double>& EmbreeReference::build_samples_ms() const
 }
 std::string EmbreeReference::description() const { return "Embree (not built)"; }
 ReferenceResult EmbreeReference::render(const Camera&, int, int, EmbreeMode, int, double)
+{
+    throw std::runtime_error("embree: clvis was built without Embree 3 (Debian: libembree-dev)");
+}
+EmbreeRays EmbreeReference::trace(const RayRecord*, std::size_t, bool, EmbreeMode, int)
 {
     throw std::runtime_error("embree: clvis was built without Embree 3 (Debian: libembree-dev)");
 }

@@ -6,8 +6,10 @@
 #include "reference_result.hpp"
 
 #include <clvis/camera.hpp>
+#include <clvis/rays.hpp>
 #include <clvis/scene.hpp>
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -19,6 +21,14 @@ enum class EmbreeMode {
 };
 
 const char* to_string(EmbreeMode mode) noexcept;
+
+/// Embree's answers for a batch of rays and the time of each timed run.
+struct EmbreeRays {
+    std::vector<double> run_ms;
+    std::vector<std::uint32_t> ids;     ///< closest: primitive id or 0xFFFFFFFF
+    std::vector<float> t;               ///< closest: tfar of the hit, +inf for a miss
+    std::vector<std::uint8_t> occluded; ///< occlusion: 1 or 0
+};
 
 /// True when clvis_bench_refs was built with Embree (CLVIS_HAVE_EMBREE).
 bool embree_available() noexcept;
@@ -44,6 +54,12 @@ public:
     /// Throws std::runtime_error on failure.
     ReferenceResult render(const Camera& camera, int width, int height, EmbreeMode mode, int repeats,
                            double budget_ms = 0);
+
+    /// Traces `n` rays of clvis's records (tnear = tmin, tfar = tmax) with rtcIntersect1 /
+    /// rtcOccluded1, or as packets of 16 consecutive rays with rtcIntersect16 / rtcOccluded16, on
+    /// `threads` std::threads: one untimed run, then `repeats` timed runs. Throws
+    /// std::runtime_error on failure.
+    EmbreeRays trace(const RayRecord* rays, std::size_t n, bool occluded, EmbreeMode mode, int repeats);
 
 private:
     struct Impl;

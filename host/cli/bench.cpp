@@ -13,6 +13,7 @@ namespace {
 struct BenchArgs {
     bench::BenchConfig config;
     DeviceOptions device;
+    bool rays = false; ///< the ray-query workloads (bench/bench_rays.cpp) instead of the sweep
 };
 
 } // namespace
@@ -35,7 +36,13 @@ void add_bench_command(CLI::App& app)
     cmd->add_option("--ref-threads", c.ref_threads, "threads of the reference renderers (default 2)")
         ->check(CLI::Range(1, 1024));
     cmd->add_flag("--no-plot", c.no_plot, "skip the plots (bench/plot.py, matplotlib)");
-    cmd->callback([args] { bench::run_bench(args->config, [args] { return args->device.open(); }); });
+    cmd->add_flag("--rays", args->rays,
+                  "the ray-query workloads instead: ambient occlusion rays (bunny, 1M sphere) and random rays "
+                  "through a 1M soup, clvis closest/any against rtcIntersect1/16 and rtcOccluded1/16");
+    cmd->callback([args] {
+        if (args->rays) bench::run_ray_bench(args->config, args->device.open());
+        else bench::run_bench(args->config, [args] { return args->device.open(); });
+    });
 }
 
 } // namespace clvis::cli
