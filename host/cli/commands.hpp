@@ -10,5 +10,6 @@ void add_info_command(CLI::App& app);
 void add_render_command(CLI::App& app);
 void add_compare_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
+void add_rays_command(CLI::App& app);
 
 } // namespace clvis::cli

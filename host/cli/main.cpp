@@ -18,6 +18,7 @@ int main(int argc, char** argv)
     clvis::cli::add_info_command(app);
     clvis::cli::add_render_command(app);
     clvis::cli::add_compare_command(app);
+    clvis::cli::add_rays_command(app);
     clvis::cli::add_bench_command(app);
     try {
         app.parse(argc, argv);

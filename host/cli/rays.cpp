@@ -1,0 +1,97 @@
+// clvis rays: a file of rays in, the answers of one ray query out (CONVENTIONS.md "Ray queries"):
+// closest hits, occlusion flags or hit counts, as .npy or raw records by the file's extension.
+#include "commands.hpp"
+#include "options.hpp"
+
+#include <clvis/clvis.hpp>
+#include <clvis/ray_files.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+namespace clvis::cli {
+
+namespace {
+
+struct RaysArgs {
+    SceneInput scene;
+    DeviceOptions device;
+    std::string rays, hits, query = "closest";
+    std::size_t batch = std::size_t(1) << 20;
+    bool brute = false, json = false, quiet = false;
+};
+
+void rays_command(const RaysArgs& a)
+{
+    double load_ms = 0;
+    SceneFile file = a.scene.load(&load_ms);
+    if (file.scene.empty()) throw Error(Error::Kind::InvalidArgument, "the scene holds no triangles");
+    RayQueryKind kind = ray_query_kind_from_string(a.query.c_str());
+    std::vector<RayRecord> rays = read_rays(a.rays);
+    Device device = a.device.open();
+    Renderer renderer(device, file.scene);
+    RayQueryOptions options;
+    options.batch_rays = a.batch;
+    options.brute = a.brute;
+    auto t0 = std::chrono::steady_clock::now();
+    RayQuery query(renderer, options);
+    double build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    RayQueryStats stats;
+    if (kind == RayQueryKind::Closest) {
+        std::vector<HitRecord> hits(rays.size());
+        stats = query.closest({rays.data(), rays.size()}, hits.data());
+        write_hits(a.hits, hits);
+    } else if (kind == RayQueryKind::Any) {
+        std::vector<std::uint8_t> flags(rays.size());
+        stats = query.occluded({rays.data(), rays.size()}, flags.data());
+        write_flags(a.hits, flags);
+    } else {
+        std::vector<std::uint32_t> counts(rays.size());
+        stats = query.count({rays.data(), rays.size()}, counts.data());
+        write_counts(a.hits, counts);
+    }
+    double mrays = stats.device_ms > 0 ? double(stats.rays) / (stats.device_ms * 1e3) : 0;
+    if (!a.quiet) {
+        char buf[256];
+        std::snprintf(buf, sizeof buf, "clvis: %zu rays (%zu invalid) against %zu triangles on %s: %s in %.2f ms on the "
+                                       "device (%.2f Mrays/s), %.2f ms with transfers, %zu batch(es)",
+                      stats.rays, stats.invalid, file.scene.triangle_count(), device.info().name.c_str(),
+                      to_string(kind), stats.device_ms, mrays, stats.wall_ms, stats.batches);
+        std::cerr << buf << "\n";
+    }
+    if (a.json) {
+        nlohmann::json j{{"query", to_string(kind)},   {"rays", stats.rays},         {"invalid", stats.invalid},
+                         {"triangles", file.scene.triangle_count()}, {"device", device.info().name},
+                         {"load_ms", load_ms},         {"build_ms", build_ms},       {"device_ms", stats.device_ms},
+                         {"wall_ms", stats.wall_ms},   {"batches", stats.batches},   {"mrays_per_s", mrays}};
+        std::cout << j.dump(2) << "\n";
+    }
+}
+
+} // namespace
+
+void add_rays_command(CLI::App& app)
+{
+    auto args = std::make_shared<RaysArgs>();
+    auto* cmd = app.add_subcommand(
+        "rays", "Answer a ray query for a file of rays: closest hits, occlusion or hit counts.\n"
+                "Rays: .npy (N, 8) float32 ox,oy,oz,tmin,dx,dy,dz,tmax, or raw 32-byte records.\n"
+                "Hits: .npy (structured t,id,u,v | uint8 | uint32) or raw records by extension.\n"
+                "Example: clvis rays scenes/spot.obj --rays rays.npy --hits hits.npy --query closest");
+    args->scene.add_to(*cmd);
+    args->device.add_to(*cmd);
+    cmd->add_option("--rays", args->rays, "the rays (.npy or raw records)")->required();
+    cmd->add_option("--hits", args->hits, "where the answers go (.npy or raw records)")->required();
+    cmd->add_option("--query", args->query, "closest, any (occlusion) or count")
+        ->check(CLI::IsMember({"closest", "any", "count"}));
+    cmd->add_option("--batch", args->batch, "rays per kernel launch at most")->check(CLI::Range(1, 1 << 28));
+    cmd->add_flag("--brute", args->brute, "test every triangle instead of walking the BVH");
+    cmd->add_flag("--json", args->json, "print one JSON object with the counts and timings on standard output");
+    cmd->add_flag("--quiet,-q", args->quiet, "say nothing on standard error");
+    cmd->callback([args] { rays_command(*args); });
+}
+
+} // namespace clvis::cli
