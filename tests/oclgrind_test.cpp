@@ -8,6 +8,8 @@
 #include <clvis/clvis.hpp>
 
 #include <cmath>
+#include <cstring>
+#include <limits>
 
 using namespace clvis;
 
@@ -100,4 +102,51 @@ TEST_CASE("every kernel runs clean on Oclgrind and matches PoCL bit for bit", "[
         o.mode = mode;
         CHECK(shade(r, vis, c.camera, o).rgba.size() == std::size_t(c.width) * c.height * 4);
     }
+}
+
+/// Answers of the three queries for `rays` (through the BVH, or brute force).
+std::vector<std::uint32_t> query_all(Renderer& r, const std::vector<RayRecord>& rays, bool brute)
+{
+    RayQuery q(r, RayQueryOptions{64, brute});
+    std::vector<HitRecord> hits(rays.size());
+    std::vector<std::uint8_t> flags(rays.size());
+    std::vector<std::uint32_t> counts(rays.size()), out;
+    q.closest({rays.data(), rays.size()}, hits.data());
+    q.occluded({rays.data(), rays.size()}, flags.data());
+    q.count({rays.data(), rays.size()}, counts.data());
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        std::uint32_t t;
+        std::memcpy(&t, &hits[i].t, 4);
+        out.insert(out.end(), {t, hits[i].id, flags[i], counts[i]});
+    }
+    return out;
+}
+
+TEST_CASE("the ray query kernels run clean on Oclgrind and match PoCL", "[.oclgrind]")
+{
+    Scene scene;
+    scene.add_mesh(make_uv_sphere(240));
+    std::vector<RayRecord> rays;
+    for (int i = 0; i < 150; ++i) {
+        float a = 0.37f * float(i), z = float(i % 7) - 3.0f;
+        rays.push_back(RayRecord{1.5f * std::cos(a), 0.3f * z, 1.5f * std::sin(a), 0, -std::cos(a), 0.1f, -std::sin(a),
+                                 i % 5 ? std::numeric_limits<float>::infinity() : 1.0f});
+    }
+    rays.push_back(RayRecord{0, 0, 0, 1, 0, 0, 0, 2});                                             // zero direction
+    rays.push_back(RayRecord{std::nanf(""), 0, 0, 0, 1, 0, 0, 2});                                 // NaN
+    rays.push_back(RayRecord{0, 0, 0, 0, 0, 1, 0, std::numeric_limits<float>::infinity()});         // from inside
+    Device pocl = Device::open("portable computing language");
+    for (bool brute : {false, true}) {
+        INFO((brute ? "brute force" : "BVH"));
+        Renderer on_grind(Device::open("oclgrind"), scene), on_pocl(pocl, scene);
+        CHECK(query_all(on_grind, rays, brute) == query_all(on_pocl, rays, brute));
+    }
+    Renderer r(Device::open("oclgrind"), scene);
+    Camera cam = Camera::framing(scene.bounds());
+    auto vis = r.render(cam, 9, 7, Path::Ray);
+    RayQuery q(r);
+    AoOptions o;
+    o.rays = 2;
+    CHECK(q.ambient_occlusion(vis, cam, o).value.size() == 63);
+    CHECK(q.shadows(vis, cam, Vec3{0, 5, 0}).value.size() == 63);
 }

@@ -417,6 +417,16 @@ TEST_CASE("ambient occlusion and shadows from a visibility buffer are reproducib
     PixelRays a = q.ambient_occlusion(vis, cam, o), b = small.ambient_occlusion(vis, cam, o);
     CHECK(a.value == b.value);
     CHECK(a.stats.invalid == 0);
+    // the rays it traced, as the caller may fetch them, answer the same
+    std::vector<RayRecord> traced = q.ambient_occlusion_rays(vis, cam, o);
+    REQUIRE(traced.size() == a.value.size() * 8);
+    std::vector<std::uint8_t> flags(traced.size());
+    q.occluded({traced.data(), traced.size()}, flags.data());
+    for (std::size_t i = 0; i < a.value.size(); ++i) {
+        int open = 0;
+        for (std::size_t k = 0; k < 8; ++k) open += flags[8 * i + k] == 0;
+        REQUIRE(a.value[i] == float(open) / 8.0f);
+    }
     CHECK(a.stats.rays == 120u * 90u * 8u);
     HostVisibility hv = vis.read();
     std::size_t open = 0, dark = 0, covered = 0;

@@ -24,6 +24,7 @@ struct RenderArgs {
     std::string path = "raster";
     std::string ids, depth, image, shade = "lambert", cull = "none";
     int repeat = 0;
+    int ao = 0; ///< rays per pixel of the ambient-occlusion image; 0: a shaded image
     int tile = 0;
     int leaf = 4;
     bool json = false;
@@ -39,6 +40,33 @@ std::string with_suffix(const std::string& file, const std::string& suffix, bool
     if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return file + "-" + suffix;
     return file.substr(0, dot) + "-" + suffix + file.substr(dot);
 }
+
+#if CLVIS_WITH_IMAGE_IO
+/// The ambient occlusion of `vis` as a grey image (white: open sky or background).
+Image ao_image(Renderer& renderer, const VisibilityBuffer& vis, const Camera& camera, int rays, bool quiet)
+{
+    RayQuery query(renderer);
+    AoOptions o;
+    o.rays = rays;
+    PixelRays ao = query.ambient_occlusion(vis, camera, o);
+    if (!quiet) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "clvis: ambient occlusion: %zu rays in %.2f ms on the device (%.2f Mrays/s)",
+                      ao.stats.rays, ao.stats.device_ms, double(ao.stats.rays) / (ao.stats.device_ms * 1e3));
+        std::cerr << buf << "\n";
+    }
+    Image img;
+    img.width = ao.width;
+    img.height = ao.height;
+    img.rgba.resize(ao.value.size() * 4);
+    for (std::size_t i = 0; i < ao.value.size(); ++i) {
+        auto g = std::uint8_t(ao.value[i] * 255.0f + 0.5f);
+        img.rgba[4 * i] = img.rgba[4 * i + 1] = img.rgba[4 * i + 2] = g;
+        img.rgba[4 * i + 3] = 255;
+    }
+    return img;
+}
+#endif
 
 #if !CLVIS_WITH_IMAGE_IO
 [[noreturn]] void no_image_io(const std::string& flag)
@@ -87,7 +115,8 @@ PathResult run_path(Renderer& renderer, const Camera& camera, const RenderArgs& 
     if (!a.image.empty()) {
         ShadeOptions so;
         so.mode = a.shade == "depth" ? ShadeMode::Depth : a.shade == "ids" ? ShadeMode::Ids : ShadeMode::Lambert;
-        write_image(with_suffix(a.image, name, several), shade(renderer, vis, camera, so));
+        write_image(with_suffix(a.image, name, several),
+                    a.ao > 0 ? ao_image(renderer, vis, camera, a.ao, a.quiet) : shade(renderer, vis, camera, so));
     }
 #else
     if (!a.ids.empty()) no_image_io("--ids");
@@ -209,6 +238,7 @@ void render_command(const RenderArgs& a)
     }
     Camera camera = cam_opts.resolve(file.scene, file.camera);
     if (file.scene.empty()) throw Error(Error::Kind::InvalidArgument, "the scene holds no triangles");
+    if (a.ao > 0 && a.image.empty()) throw Error(Error::Kind::InvalidArgument, "--ao: needs --image FILE to write");
 
     std::vector<Path> paths;
     if (a.path == "all") paths = {Path::Raster, Path::Ray};
@@ -257,6 +287,8 @@ void add_render_command(CLI::App& app)
     cmd->add_option("--image", args->image, "write a shaded colour image (.png, .exr, ...)");
     cmd->add_option("--shade", args->shade, "colour image: lambert, depth or ids")
         ->check(CLI::IsMember({"lambert", "depth", "ids"}));
+    cmd->add_option("--ao", args->ao, "with --image: an ambient-occlusion image of N rays per pixel (seeded)")
+        ->check(CLI::Range(1, 1024));
     cmd->add_option("--repeat", args->repeat, "render N timed frames after one untimed warm-up")
         ->check(CLI::Range(0, 1000000));
     cmd->add_option("--tile", args->tile, "raster tile size in pixels (power of two; 0: default)");

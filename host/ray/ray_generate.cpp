@@ -1,12 +1,11 @@
 // Rays made on the device from a visibility buffer (kernels/ray_generate.cl) and answered by the
 // any-hit query (ray_query.cpp), in chunks of pixels so device memory stays bounded: ambient
 // occlusion and shadows toward a point light, resolved per pixel on the host.
-#include "ray_query_impl.hpp"
+#include "ray/ray_query_impl.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <functional>
 #include <string>
 
 namespace clvis {
@@ -37,10 +36,40 @@ double diagonal(const Scene& scene)
 
 } // namespace
 
-/// Generates `per_pixel` rays per pixel with `generate` (its arguments from 9 on set by
-/// `extra_args`), answers them with the any-hit query, and averages the unoccluded rays.
+/// Sets the arguments of a generator kernel that stay the same from chunk to chunk (its
+/// arguments from 9 on are set by the caller).
+static void bind_generator(RayQuery::Impl& m, cl::Kernel& generate, const VisibilityBuffer& vis,
+                           const clvis_camera_gpu& g, int per_pixel, const cl::Buffer& rays)
+{
+    Renderer::Impl& r = m.r;
+    generate.setArg(0, cl::Buffer(vis.keys(), true));
+    generate.setArg(1, sizeof g, &g);
+    generate.setArg(2, r.gpu.positions);
+    generate.setArg(3, r.gpu.indices);
+    generate.setArg(6, cl_uint(per_pixel));
+    generate.setArg(7, float(surface_offset * diagonal(r.scene)));
+    generate.setArg(8, rays);
+}
+
+/// Enqueues the generation of the rays of pixels [first, first + n).
+static void generate_chunk(RayQuery::Impl& m, cl::Kernel& generate, std::size_t first, std::size_t n, int per_pixel)
+{
+    generate.setArg(4, cl_uint(first));
+    generate.setArg(5, cl_uint(n));
+    m.r.queue.enqueueNDRangeKernel(generate, cl::NullRange, cl::NDRange(round_up(n * std::size_t(per_pixel), 64)),
+                                   cl::NDRange(64));
+}
+
+/// Pixels per chunk: options.batch_rays rays at most, at least one pixel.
+static std::size_t chunk_pixels(const RayQuery::Impl& m, std::size_t pixels, int per_pixel)
+{
+    return std::min(pixels, std::max<std::size_t>(1, m.options.batch_rays / std::size_t(per_pixel)));
+}
+
+/// Generates `per_pixel` rays per pixel with `generate`, answers them with the any-hit query,
+/// and averages the unoccluded rays.
 static PixelRays pixel_rays(RayQuery::Impl& m, const VisibilityBuffer& vis, const Camera& camera, int per_pixel,
-                            cl::Kernel& generate, const std::function<void(cl::Kernel&)>& extra_args)
+                            cl::Kernel& generate)
 {
     auto t0 = std::chrono::steady_clock::now();
     Renderer::Impl& r = m.r;
@@ -50,9 +79,7 @@ static PixelRays pixel_rays(RayQuery::Impl& m, const VisibilityBuffer& vis, cons
     out.height = vis.height();
     std::size_t pixels = std::size_t(out.width) * std::size_t(out.height);
     out.value.assign(pixels, 1.0f);
-    std::size_t chunk = std::max<std::size_t>(1, m.options.batch_rays / std::size_t(per_pixel));
-    chunk = std::min(chunk, pixels);
-    std::size_t chunk_rays = chunk * std::size_t(per_pixel);
+    std::size_t chunk = chunk_pixels(m, pixels, per_pixel), chunk_rays = chunk * std::size_t(per_pixel);
     r.dev().check_allocation(chunk_rays * sizeof(RayRecord), "a chunk of " + std::to_string(chunk_rays) + " generated rays");
     std::vector<std::uint8_t> flags(chunk_rays);
     std::vector<std::uint64_t> keys = vis.read_keys();
@@ -60,20 +87,10 @@ static PixelRays pixel_rays(RayQuery::Impl& m, const VisibilityBuffer& vis, cons
     try {
         cl::Buffer rays(r.dev().context, CL_MEM_READ_WRITE, chunk_rays * sizeof(RayRecord));
         cl::Buffer hit(r.dev().context, CL_MEM_READ_WRITE, chunk_rays);
-        clvis_camera_gpu g = make_gpu_camera(camera, out.width, out.height);
-        generate.setArg(0, cl::Buffer(vis.keys(), true));
-        generate.setArg(1, sizeof g, &g);
-        generate.setArg(2, r.gpu.positions);
-        generate.setArg(3, r.gpu.indices);
-        generate.setArg(6, cl_uint(per_pixel));
-        generate.setArg(7, float(surface_offset * diagonal(r.scene)));
-        generate.setArg(8, rays);
-        extra_args(generate);
+        bind_generator(m, generate, vis, make_gpu_camera(camera, out.width, out.height), per_pixel, rays);
         for (std::size_t first = 0; first < pixels; first += chunk) {
             std::size_t n = std::min(chunk, pixels - first), n_rays = n * std::size_t(per_pixel);
-            generate.setArg(4, cl_uint(first));
-            generate.setArg(5, cl_uint(n));
-            r.queue.enqueueNDRangeKernel(generate, cl::NullRange, cl::NDRange(round_up(n_rays, 64)), cl::NDRange(64));
+            generate_chunk(m, generate, first, n, per_pixel);
             DeviceRays in{rays(), RayLayout::AoS, n_rays, 0};
             DeviceResults res{hit(), RayLayout::AoS, 0};
             RayQueryStats s = m.run(RayQueryKind::Any, m.source(in), m.device_sink(RayQueryKind::Any, res, n_rays));
@@ -101,9 +118,9 @@ static PixelRays pixel_rays(RayQuery::Impl& m, const VisibilityBuffer& vis, cons
     return out;
 }
 
-PixelRays RayQuery::ambient_occlusion(const VisibilityBuffer& vis, const Camera& camera, const AoOptions& options)
+/// The AO generator with its per-call arguments set, the options checked.
+static cl::Kernel& ao_generator(RayQuery::Impl& m, const VisibilityBuffer& vis, const AoOptions& options)
 {
-    Impl& m = *impl_;
     check_buffer(m.r, vis, "ambient_occlusion");
     if (options.rays < 1 || options.rays > 1024)
         throw Error(Error::Kind::InvalidArgument,
@@ -112,11 +129,39 @@ PixelRays RayQuery::ambient_occlusion(const VisibilityBuffer& vis, const Camera&
         throw Error(Error::Kind::InvalidArgument, "ambient_occlusion: the distance must be finite and >= 0");
     float distance = options.distance > 0 ? options.distance : float(0.1 * diagonal(m.r.scene));
     if (!m.generate_ao()) m.generate_ao = cl::Kernel(m.r.dev().program("ray_generate"), "ray_generate_ao");
-    return pixel_rays(m, vis, camera, options.rays, m.generate_ao, [&](cl::Kernel& k) {
-        k.setArg(9, distance);
-        k.setArg(10, cl_uint(options.seed & 0xFFFFFFFFu));
-        k.setArg(11, cl_uint(options.seed >> 32));
-    });
+    m.generate_ao.setArg(9, distance);
+    m.generate_ao.setArg(10, cl_uint(options.seed & 0xFFFFFFFFu));
+    m.generate_ao.setArg(11, cl_uint(options.seed >> 32));
+    return m.generate_ao;
+}
+
+PixelRays RayQuery::ambient_occlusion(const VisibilityBuffer& vis, const Camera& camera, const AoOptions& options)
+{
+    return pixel_rays(*impl_, vis, camera, options.rays, ao_generator(*impl_, vis, options));
+}
+
+std::vector<RayRecord> RayQuery::ambient_occlusion_rays(const VisibilityBuffer& vis, const Camera& camera,
+                                                        const AoOptions& options)
+{
+    Impl& m = *impl_;
+    cl::Kernel& generate = ao_generator(m, vis, options);
+    camera.validate();
+    std::size_t pixels = std::size_t(vis.width()) * std::size_t(vis.height()), per = std::size_t(options.rays);
+    std::size_t chunk = chunk_pixels(m, pixels, options.rays);
+    m.r.dev().check_allocation(chunk * per * sizeof(RayRecord), "a chunk of " + std::to_string(chunk * per) + " generated rays");
+    std::vector<RayRecord> out(pixels * per);
+    try {
+        cl::Buffer rays(m.r.dev().context, CL_MEM_READ_WRITE, chunk * per * sizeof(RayRecord));
+        bind_generator(m, generate, vis, make_gpu_camera(camera, vis.width(), vis.height()), options.rays, rays);
+        for (std::size_t first = 0; first < pixels; first += chunk) {
+            std::size_t n = std::min(chunk, pixels - first);
+            generate_chunk(m, generate, first, n, options.rays);
+            m.r.queue.enqueueReadBuffer(rays, CL_TRUE, 0, n * per * sizeof(RayRecord), &out[first * per]);
+        }
+    } catch (const cl::Error& e) {
+        throw_cl_error(e, "generating ambient occlusion rays");
+    }
+    return out;
 }
 
 PixelRays RayQuery::shadows(const VisibilityBuffer& vis, const Camera& camera, const Vec3& light)
@@ -125,11 +170,10 @@ PixelRays RayQuery::shadows(const VisibilityBuffer& vis, const Camera& camera, c
     check_buffer(m.r, vis, "shadows");
     if (!is_finite(light)) throw Error(Error::Kind::InvalidArgument, "shadows: the light position must be finite");
     if (!m.generate_shadow()) m.generate_shadow = cl::Kernel(m.r.dev().program("ray_generate"), "ray_generate_shadow");
-    return pixel_rays(m, vis, camera, 1, m.generate_shadow, [&](cl::Kernel& k) {
-        k.setArg(9, float(light.x));
-        k.setArg(10, float(light.y));
-        k.setArg(11, float(light.z));
-    });
+    m.generate_shadow.setArg(9, float(light.x));
+    m.generate_shadow.setArg(10, float(light.y));
+    m.generate_shadow.setArg(11, float(light.z));
+    return pixel_rays(m, vis, camera, 1, m.generate_shadow);
 }
 
 } // namespace clvis

@@ -2,7 +2,7 @@
 // batch (or reads them from the caller's cl_mem), launches kernels/ray_query.cl and reads the
 // answers back into the caller's storage. Batches keep device memory bounded whatever the count.
 // The rays generated from visibility buffers (ambient occlusion, shadows) are in ray_generate.cpp.
-#include "ray_query_impl.hpp"
+#include "ray/ray_query_impl.hpp"
 
 #include "shared/ray_query.h"
 

@@ -2,7 +2,7 @@
 // (rays made on the device from visibility buffers).
 #pragma once
 
-#include "renderer_impl.hpp"
+#include "render/renderer_impl.hpp"
 
 #include <clvis/ray_query.hpp>
 

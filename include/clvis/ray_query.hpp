@@ -101,6 +101,10 @@ public:
     /// Ambient occlusion of every pixel of `vis` (made with `camera`): options.rays rays from
     /// each visible point, on the side facing the camera.
     PixelRays ambient_occlusion(const VisibilityBuffer& vis, const Camera& camera, const AoOptions& options = {});
+    /// The rays ambient_occlusion() traces, options.rays per pixel, pixels in row order; a
+    /// background pixel's rays have a zero direction (invalid: answered as misses).
+    std::vector<RayRecord> ambient_occlusion_rays(const VisibilityBuffer& vis, const Camera& camera,
+                                                  const AoOptions& options = {});
     /// Whether each visible point of `vis` sees the point light at `light` (world space).
     PixelRays shadows(const VisibilityBuffer& vis, const Camera& camera, const Vec3& light);
 
