@@ -95,22 +95,28 @@ TEST_CASE("malformed .npy files are refused naming the file and the fault")
     write_bytes(p, "not numpy at all");
     CHECK(error_of(p).find("magic") != std::string::npos);
     CHECK(error_of(p).find(p) == 0);
-    write_bytes(p, npy_bytes("{'descr': '<f8', 'fortran_order': False, 'shape': (2, 8), }", 128));
-    CHECK(error_of(p).find("dtype '<f8'") != std::string::npos);
-    write_bytes(p, npy_bytes("{'descr': '<f4', 'fortran_order': False, 'shape': (2, 7), }", 56));
-    CHECK(error_of(p).find("shape (2, 7)") != std::string::npos);
-    write_bytes(p, npy_bytes("{'descr': '<f4', 'fortran_order': True, 'shape': (2, 8), }", 64));
-    CHECK(error_of(p).find("Fortran") != std::string::npos);
-    write_bytes(p, npy_bytes("{'descr': '<f4', 'fortran_order': False, 'shape': (2, 8), }", 60));
-    CHECK(error_of(p).find("data bytes") != std::string::npos);
-    write_bytes(p, npy_bytes("{'descr': '<f4', 'shape': (2, 8), }", 64));
-    CHECK(error_of(p).find("needs descr, fortran_order and shape") != std::string::npos);
-    write_bytes(p, npy_bytes("{'descr': '<f4', 'fortran_order': False, 'shape': (2, x), }", 64));
-    CHECK(error_of(p).find("non-integer") != std::string::npos);
-    write_bytes(p, npy_bytes("{'descr': '<f4', 'fortran_order': False, 'shape': (2, 8), 'extra': 1}", 64));
-    CHECK(error_of(p).find("unknown key 'extra'") != std::string::npos);
-    write_bytes(p, npy_bytes("{'descr': '<f4', 'fortran_order': False, 'shape': (2, 8), }", 64, 4));
-    CHECK(error_of(p).find("version 4") != std::string::npos);
+    struct Bad {
+        const char* header;
+        std::size_t data_bytes;
+        char major;
+        const char* says;
+    };
+    const std::string ok = "{'descr': '<f4', 'fortran_order': False, 'shape': (2, 8), }";
+    const Bad bad[] = {
+        {"{'descr': '<f8', 'fortran_order': False, 'shape': (2, 8), }", 128, 1, "dtype '<f8'"},
+        {"{'descr': '<f4', 'fortran_order': False, 'shape': (2, 7), }", 56, 1, "shape (2, 7)"},
+        {"{'descr': '<f4', 'fortran_order': True, 'shape': (2, 8), }", 64, 1, "Fortran"},
+        {ok.c_str(), 60, 1, "data bytes"},
+        {"{'descr': '<f4', 'shape': (2, 8), }", 64, 1, "needs descr, fortran_order and shape"},
+        {"{'descr': '<f4', 'fortran_order': False, 'shape': (2, x), }", 64, 1, "non-integer"},
+        {"{'descr': '<f4', 'fortran_order': False, 'shape': (2, 8), 'extra': 1}", 64, 1, "unknown key 'extra'"},
+        {ok.c_str(), 64, 4, "version 4"},
+    };
+    for (const Bad& b : bad) {
+        INFO(b.header << " and " << b.data_bytes << " data bytes, version " << int(b.major));
+        write_bytes(p, npy_bytes(b.header, b.data_bytes, b.major));
+        CHECK(error_of(p).find(b.says) != std::string::npos);
+    }
     write_bytes(p, npy_bytes("{'descr': '<f4', 'fortran_order': False, 'shape': (2, 8), }", 64, 2));
     CHECK(read_rays(p).size() == 2); // version 2: a 4-byte header length
     write_bytes(p, std::string("\x93NUMPY\x01\x00\xff\x00{", 11));

@@ -42,7 +42,7 @@ std::string with_suffix(const std::string& file, const std::string& suffix, bool
 }
 
 #if CLVIS_WITH_IMAGE_IO
-/// The ambient occlusion of `vis` as a grey image (white: open sky or background).
+/// The ambient occlusion of `vis` as a grey image (white: open sky; black: background).
 Image ao_image(Renderer& renderer, const VisibilityBuffer& vis, const Camera& camera, int rays, bool quiet)
 {
     RayQuery query(renderer);
@@ -55,12 +55,13 @@ Image ao_image(Renderer& renderer, const VisibilityBuffer& vis, const Camera& ca
                       ao.stats.rays, ao.stats.device_ms, double(ao.stats.rays) / (ao.stats.device_ms * 1e3));
         std::cerr << buf << "\n";
     }
+    HostVisibility ids = vis.read();
     Image img;
     img.width = ao.width;
     img.height = ao.height;
     img.rgba.resize(ao.value.size() * 4);
     for (std::size_t i = 0; i < ao.value.size(); ++i) {
-        auto g = std::uint8_t(ao.value[i] * 255.0f + 0.5f);
+        auto g = ids.ids[i] == background_id ? std::uint8_t(0) : std::uint8_t(ao.value[i] * 255.0f + 0.5f);
         img.rgba[4 * i] = img.rgba[4 * i + 1] = img.rgba[4 * i + 2] = g;
         img.rgba[4 * i + 3] = 255;
     }
