@@ -137,20 +137,22 @@ static cl::Kernel& ao_generator(RayQuery::Impl& m, const VisibilityBuffer& vis, 
 
 PixelRays RayQuery::ambient_occlusion(const VisibilityBuffer& vis, const Camera& camera, const AoOptions& options)
 {
-    return pixel_rays(*impl_, vis, camera, options.rays, ao_generator(*impl_, vis, options));
+    return error_boundary("ambient occlusion", [&] {
+        return pixel_rays(*impl_, vis, camera, options.rays, ao_generator(*impl_, vis, options));
+    });
 }
 
 std::vector<RayRecord> RayQuery::ambient_occlusion_rays(const VisibilityBuffer& vis, const Camera& camera,
                                                         const AoOptions& options)
 {
     Impl& m = *impl_;
-    cl::Kernel& generate = ao_generator(m, vis, options);
     camera.validate();
-    std::size_t pixels = std::size_t(vis.width()) * std::size_t(vis.height()), per = std::size_t(options.rays);
-    std::size_t chunk = chunk_pixels(m, pixels, options.rays);
-    m.r.dev().check_allocation(chunk * per * sizeof(RayRecord), "a chunk of " + std::to_string(chunk * per) + " generated rays");
-    std::vector<RayRecord> out(pixels * per);
-    try {
+    return error_boundary("generating ambient occlusion rays", [&] {
+        cl::Kernel& generate = ao_generator(m, vis, options);
+        std::size_t pixels = std::size_t(vis.width()) * std::size_t(vis.height()), per = std::size_t(options.rays);
+        std::size_t chunk = chunk_pixels(m, pixels, options.rays);
+        m.r.dev().check_allocation(chunk * per * sizeof(RayRecord), "a chunk of " + std::to_string(chunk * per) + " generated rays");
+        std::vector<RayRecord> out(pixels * per);
         cl::Buffer rays(m.r.dev().context, CL_MEM_READ_WRITE, chunk * per * sizeof(RayRecord));
         bind_generator(m, generate, vis, make_gpu_camera(camera, vis.width(), vis.height()), options.rays, rays);
         for (std::size_t first = 0; first < pixels; first += chunk) {
@@ -158,10 +160,8 @@ std::vector<RayRecord> RayQuery::ambient_occlusion_rays(const VisibilityBuffer& 
             generate_chunk(m, generate, first, n, options.rays);
             m.r.queue.enqueueReadBuffer(rays, CL_TRUE, 0, n * per * sizeof(RayRecord), &out[first * per]);
         }
-    } catch (const cl::Error& e) {
-        throw_cl_error(e, "generating ambient occlusion rays");
-    }
-    return out;
+        return out;
+    });
 }
 
 PixelRays RayQuery::shadows(const VisibilityBuffer& vis, const Camera& camera, const Vec3& light)
@@ -169,11 +169,13 @@ PixelRays RayQuery::shadows(const VisibilityBuffer& vis, const Camera& camera, c
     Impl& m = *impl_;
     check_buffer(m.r, vis, "shadows");
     if (!is_finite(light)) throw Error(Error::Kind::InvalidArgument, "shadows: the light position must be finite");
-    if (!m.generate_shadow()) m.generate_shadow = cl::Kernel(m.r.dev().program("ray_generate"), "ray_generate_shadow");
-    m.generate_shadow.setArg(9, float(light.x));
-    m.generate_shadow.setArg(10, float(light.y));
-    m.generate_shadow.setArg(11, float(light.z));
-    return pixel_rays(m, vis, camera, 1, m.generate_shadow);
+    return error_boundary("shadow rays", [&] {
+        if (!m.generate_shadow()) m.generate_shadow = cl::Kernel(m.r.dev().program("ray_generate"), "ray_generate_shadow");
+        m.generate_shadow.setArg(9, float(light.x));
+        m.generate_shadow.setArg(10, float(light.y));
+        m.generate_shadow.setArg(11, float(light.z));
+        return pixel_rays(m, vis, camera, 1, m.generate_shadow);
+    });
 }
 
 } // namespace clvis

@@ -76,7 +76,7 @@ RayQuery::Impl::Impl(Renderer& renderer, const RayQueryOptions& o) : r(RendererA
     if (options.batch_rays < 1 || options.batch_rays > (std::size_t(1) << 28))
         throw Error(Error::Kind::InvalidArgument,
                     "ray query: batch_rays must lie in [1, 2^28], got " + std::to_string(options.batch_rays));
-    if (!options.brute) r.ray_pipeline(true);
+    if (!options.brute) error_boundary("preparing the ray queries", [&] { return &r.ray_pipeline(true); });
 }
 
 cl::Kernel& RayQuery::Impl::kernel(RayQueryKind kind)
@@ -191,14 +191,12 @@ RayQueryStats RayQuery::Impl::run(RayQueryKind kind, const Source& src, const Si
     std::size_t n = src.in.count;
     stats.rays = n;
     if (n == 0) return stats;
-    if (!options.brute) r.ray_pipeline(true);
-    try {
+    error_boundary(std::string("answering a ray query (") + to_string(kind) + ")", [&] {
+        if (!options.brute) r.ray_pipeline(true);
         reserve(std::min(n, options.batch_rays));
         for (std::size_t first = 0; first < n; first += capacity)
             batch(kind, src, dst, first, std::min(capacity, n - first), stats);
-    } catch (const cl::Error& e) {
-        throw_cl_error(e, std::string("answering a ray query (") + to_string(kind) + ")");
-    }
+    });
     stats.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return stats;
 }
