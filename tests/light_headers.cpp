@@ -4,6 +4,8 @@
 #include <clvis/host_visibility.hpp>
 #include <clvis/image.hpp>
 #include <clvis/image_io.hpp>
+#include <clvis/ray_files.hpp>
+#include <clvis/rays.hpp>
 #include <clvis/referee.hpp>
 #include <clvis/render_options.hpp>
 
