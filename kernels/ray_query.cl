@@ -84,7 +84,7 @@ static int test_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_ve
     }
     return 0;
 #elif CLVIS_QUERY == CLVIS_QUERY_ANY
-    if (clvis_intersect_triangle(s, a, b, c, tmin, tmax, &t)) {
+    if (clvis_intersect_triangle(s, a, b, c, tmin, tmax, CLVIS_CULL_NONE, &t)) {
         ans->id = 1u;
         return 1;
     }
