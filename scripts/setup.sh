@@ -10,6 +10,8 @@ packages=(
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   # libraries
   libopenimageio-dev openimageio-tools catch2 libcli11-dev nlohmann-json3-dev
+  # glTF 2.0 files
+  libtinygltf-dev
   # reference renderers for the benchmark: Embree and Mesa's llvmpipe through EGL
   libembree-dev libegl-dev libopengl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
   # plots; the Python package's virtual environment (scripts/python_env.sh)

@@ -1,6 +1,7 @@
 // Files into scenes: load_mesh reads a whole file and picks a parser (host/scene/scene_obj.cpp,
-// scene_ply.cpp, scene_stl.cpp) by extension, else by content; load_scene_file reads the JSON
-// scene file (meshes, transforms, camera, image size); load_scene puts paths into one Scene.
+// scene_ply.cpp, scene_stl.cpp, scene_gltf.cpp) by extension, else by content; load_scene_file
+// reads the JSON scene file (meshes, transforms, camera, image size); load_scene puts paths into
+// one Scene (a glTF file's items each as a mesh with its transform).
 #include "lower_case.hpp"
 #include "scene/scene_parsers.hpp"
 
@@ -49,6 +50,7 @@ MeshFormat format_from_extension(const std::string& path)
     if (ext == ".obj") return MeshFormat::Obj;
     if (ext == ".ply") return MeshFormat::Ply;
     if (ext == ".stl") return MeshFormat::Stl;
+    if (ext == ".gltf" || ext == ".glb") return MeshFormat::Gltf;
     return MeshFormat::Unknown;
 }
 
@@ -83,6 +85,7 @@ bool looks_like_obj(std::string_view s)
 MeshFormat format_from_content(std::string_view bytes)
 {
     if (bytes.compare(0, 4, "ply\n") == 0 || bytes.compare(0, 5, "ply\r\n") == 0) return MeshFormat::Ply;
+    if (bytes.compare(0, 4, "glTF") == 0) return MeshFormat::Gltf;
     if (bytes.size() >= 84) {
         const auto* p = reinterpret_cast<const unsigned char*>(bytes.data()) + 80;
         std::uint64_t n = std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 | std::uint32_t(p[3]) << 24;
@@ -103,10 +106,11 @@ MeshData parse_mesh(std::string_view bytes, const std::string& path)
     case MeshFormat::Obj: return parse_obj(bytes, path);
     case MeshFormat::Ply: return parse_ply(bytes, path);
     case MeshFormat::Stl: return parse_stl(bytes, path);
+    case MeshFormat::Gltf: return flatten_gltf(parse_gltf(bytes, path, true), path);
     case MeshFormat::Unknown: break;
     }
     if (bytes.empty()) fail(path, "empty file, contains no triangles");
-    fail(path, "unknown mesh format: not .obj, .ply or .stl, and the content is none of them");
+    fail(path, "unknown mesh format: not .obj, .ply, .stl, .gltf or .glb, and the content is none of them");
 }
 
 #ifdef CLVIS_HAVE_JSON
@@ -303,6 +307,11 @@ Scene load_scene(const std::vector<std::string>& paths)
                             "load_scene: the scene file " + path + " must be the only path (got " +
                                 std::to_string(paths.size()) + ")");
             return load_scene_file(path).scene;
+        }
+        if (detail::format_from_extension(path) == detail::MeshFormat::Gltf) {
+            GltfScene gltf = load_gltf(path);
+            for (const GltfScene::Item& item : gltf.items) scene.add_mesh(gltf.meshes[item.mesh], item.transform);
+            continue;
         }
         scene.add_mesh(load_mesh(path));
     }

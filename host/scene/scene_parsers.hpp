@@ -23,10 +23,19 @@ MeshData parse_ply(std::string_view bytes, const std::string& name);
 /// start with "solid"). Every facet gets three vertices of its own: nothing is welded.
 MeshData parse_stl(std::string_view bytes, const std::string& name);
 
-enum class MeshFormat { Obj, Ply, Stl, Unknown };
+/// glTF 2.0, text (.gltf) or binary (.glb, told by its "glTF" magic). Buffers named by a uri are
+/// read from the file's folder only when `read_files` (the fuzz targets pass false); data URIs
+/// always work.
+GltfScene parse_gltf(std::string_view bytes, const std::string& name, bool read_files);
+/// The items of a glTF scene in id order as one mesh, positions transformed in double and rounded
+/// once (the bits Scene gives the same items as meshes with transforms).
+MeshData flatten_gltf(const GltfScene& gltf, const std::string& name);
+
+enum class MeshFormat { Obj, Ply, Stl, Gltf, Unknown };
 /// The format by the file's extension (case-insensitive), else Unknown.
 MeshFormat format_from_extension(const std::string& path);
-/// The format by the content: "ply" magic, STL ("solid" or the binary size rule), OBJ keywords.
+/// The format by the content: "ply" and "glTF" magic, STL ("solid" or the binary size rule), OBJ
+/// keywords.
 MeshFormat format_from_content(std::string_view bytes);
 /// Dispatches to a parser by extension, else by content.
 MeshData parse_mesh(std::string_view bytes, const std::string& path);

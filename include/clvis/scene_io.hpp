@@ -1,6 +1,6 @@
-// Reading scenes from files: Wavefront OBJ, PLY (ASCII and binary), STL (ASCII and binary), and
-// the JSON scene file that names meshes, transforms and a camera. Every error names the file,
-// the line for text formats, and what is wrong.
+// Reading scenes from files: Wavefront OBJ, PLY (ASCII and binary), STL (ASCII and binary),
+// glTF 2.0 (.gltf, .glb), and the JSON scene file that names meshes, transforms and a camera.
+// Every error names the file, the line, byte or JSON path, and what is wrong.
 #pragma once
 
 #include <clvis/camera.hpp>
@@ -12,8 +12,8 @@
 
 namespace clvis {
 
-/// Reads one mesh file; the format comes from the extension (.obj, .ply, .stl), else from the
-/// content. Throws Error(Io) naming the file (and line) on any malformed or unreadable input.
+/// Reads one mesh file; the format comes from the extension (.obj, .ply, .stl, .gltf, .glb), else
+/// from the content. Throws Error(Io) naming the file (and line) on any malformed or unreadable input.
 ///  - Triangle ids follow CONVENTIONS.md: faces in file order, polygons fanned (v0, vk, vk+1),
 ///    degenerate faces kept. A file with no triangle at all (empty, points or lines only) is an
 ///    error: "contains no triangles".
@@ -26,7 +26,37 @@ namespace clvis {
 ///    gets vertices 3i, 3i+1, 3i+2: nothing is welded.
 ///  - Binary errors name the byte offset and the element; counts in headers are checked against
 ///    the file's size before anything is allocated.
+///  - glTF 2.0: the items of load_gltf, flattened into one mesh in id order (each item's
+///    positions transformed in double and rounded once, as Scene does).
 MeshData load_mesh(const std::string& path);
+
+/// A glTF 2.0 file as CONVENTIONS.md's "Instances" reads it: the triangle primitives met in a
+/// depth-first, pre-order walk of the default scene (scene 0 when none is named), root nodes,
+/// children and primitives in file order, a node's own primitives before its children.
+struct GltfScene {
+    struct Item {
+        std::size_t mesh = 0; ///< index into meshes
+        Mat4 transform;       ///< product of the node transforms (matrix or T R S) along the path
+        std::size_t node = 0; ///< the glTF node that holds it
+    };
+    /// One per (glTF mesh, primitive) that the walk meets, shared by every node using that mesh:
+    /// POSITION as stored (float32), triangles in index order, strips and fans as the glTF
+    /// specification orders them (strip: v_i, v_{i+1+i%2}, v_{i+2-i%2}; fan: v_{i+1}, v_{i+2},
+    /// v_0), indexed or not, sparse accessors applied.
+    std::vector<MeshData> meshes;
+    std::vector<Item> items;        ///< in id order
+    std::vector<std::string> notes; ///< what was skipped and why (points and lines, no POSITION)
+
+    std::uint64_t triangle_count() const;
+};
+
+/// Reads a .gltf (buffers in files beside it or embedded as base64 data URIs) or a .glb. Throws
+/// Error(Io) naming the file and what is wrong (with the glTF path, "meshes[2].primitives[0]"):
+/// JSON or GLB structure, an accessor outside its buffer, an index past the vertices, a
+/// non-finite position or transform, a node reached twice (nodes form disjoint trees), a required
+/// extension that changes geometry (Draco, quantization, meshopt, GPU instancing), no triangle.
+/// Images are never decoded. A build without tinygltf throws Error(Io) saying so.
+GltfScene load_gltf(const std::string& path);
 
 /// A scene file (JSON): meshes with optional transforms, an optional camera and image size.
 ///   { "meshes": [ {"file": "a.obj", "transform": [16 numbers, row by row]} ],
@@ -47,7 +77,7 @@ struct SceneFile {
 SceneFile load_scene_file(const std::string& path);
 
 /// Loads each path into one scene in order: mesh files, or a single scene file (.json), whose
-/// camera and size are then dropped. No path, or a .json among others, is Error(InvalidArgument).
+/// camera and size are then dropped. A glTF file adds its items, each a mesh with its transform. No path, or a .json among others, is Error(InvalidArgument).
 Scene load_scene(const std::vector<std::string>& paths);
 
 } // namespace clvis
