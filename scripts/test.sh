@@ -5,11 +5,11 @@
 #     then the Python package (reinstalled into .venv) and its pytest suite, the clean-clone
 #     install included;
 #  2. AddressSanitizer + UndefinedBehaviorSanitizer build; the host tests under it;
-#  3. libFuzzer over each scene loader for FUZZ_SECONDS each (default 60).
+#  3. libFuzzer over each scene loader for FUZZ_SECONDS each (default 48, five loaders).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc)
-fuzz_seconds=${FUZZ_SECONDS:-60}
+fuzz_seconds=${FUZZ_SECONDS:-48}
 start=$(date +%s)
 stage() { echo; echo "[test] $* ($(( $(date +%s) - start )) s)"; }
 

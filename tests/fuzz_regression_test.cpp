@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 using namespace clvis;
 namespace fs = std::filesystem;
@@ -43,6 +44,13 @@ bool replay(const std::string& format, const std::string& bytes, const std::stri
             CHECK_FALSE(f.scene.empty());
             return true;
         }
+        if (format == "gltf") {
+            GltfScene g = detail::parse_gltf(bytes, name, false);
+            CHECK(g.triangle_count() > 0);
+            Scene s;
+            for (const GltfScene::Item& item : g.items) s.add_mesh(g.meshes[item.mesh], item.transform);
+            return true;
+        }
         MeshData m = format == "obj" ? detail::parse_obj(bytes, name)
                      : format == "ply" ? detail::parse_ply(bytes, name)
                                        : detail::parse_stl(bytes, name);
@@ -61,7 +69,7 @@ std::size_t replay_folder(const fs::path& root)
 {
     REQUIRE(fs::is_directory(root));
     std::size_t count = 0;
-    for (const char* format : {"obj", "ply", "stl", "scene"}) {
+    for (const char* format : {"obj", "ply", "stl", "gltf", "scene"}) {
         fs::path dir = root / format;
         REQUIRE(fs::is_directory(dir));
         for (const auto& e : fs::directory_iterator(dir)) {
@@ -85,8 +93,12 @@ TEST_CASE("every fuzz seed loads or throws clvis::Error, the well-formed ones lo
 {
     fs::path corpus = fs::path(CLVIS_SOURCE_DIR) / "tests" / "fuzz" / "corpus";
     CHECK(replay_folder(corpus) >= 20);
-    for (const char* seed : {"obj/suzanne.obj", "ply/suzanne_le.ply", "ply/quad_be.ply", "stl/suzanne_binary.stl",
-                             "stl/solid_but_binary.stl", "scene/full.json"}) {
+    std::vector<const char*> seeds = {"obj/suzanne.obj", "ply/suzanne_le.ply", "ply/quad_be.ply",
+                                      "stl/suzanne_binary.stl", "stl/solid_but_binary.stl", "scene/full.json"};
+#ifdef CLVIS_HAVE_TINYGLTF
+    seeds.insert(seeds.end(), {"gltf/walk.gltf", "gltf/sparse.gltf", "gltf/strips.gltf", "gltf/quad.glb"});
+#endif
+    for (const char* seed : seeds) {
         INFO(seed);
         std::string format = std::string(seed).substr(0, std::string(seed).find('/'));
         CHECK(replay(format, read_bytes(corpus / seed), seed));

@@ -4,7 +4,7 @@
 // ones name the file and what is wrong; every glTF2 file of assimp-testmodels loads or fails cleanly.
 #include "catch.hpp"
 
-#include "scene_parsers.hpp"
+#include "scene/scene_parsers.hpp"
 
 #include <clvis/clvis.hpp>
 
@@ -217,10 +217,12 @@ TEST_CASE("glTF strips and fans follow the specification's vertex order", "[io][
                        "]}],\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}]";
     GltfScene s = load_gltf(write_file("strips.gltf", g.embedded(rest)));
     REQUIRE(s.items.size() == 4);
+    // glTF 2.0, 3.7.2.1: strip p_i = {v_i, v_{i+(1+i%2)}, v_{i+(2-i%2)}}, fan p_i = {v_{i+1}, v_{i+2}, v_0}
+    // (not OpenGL's odd-triangle order v_{i+1}, v_i, v_{i+2}: the same winding, other first vertex).
     using V = std::vector<std::uint32_t>;
-    CHECK(s.meshes[s.items[0].mesh].indices == V{0, 1, 2, 2, 1, 3, 2, 3, 4});
+    CHECK(s.meshes[s.items[0].mesh].indices == V{0, 1, 2, 1, 3, 2, 2, 3, 4});
     CHECK(s.meshes[s.items[1].mesh].indices == V{1, 2, 0, 2, 3, 0, 3, 4, 0});
-    CHECK(s.meshes[s.items[2].mesh].indices == V{4, 3, 2, 2, 3, 1, 2, 1, 0});
+    CHECK(s.meshes[s.items[2].mesh].indices == V{4, 3, 2, 3, 1, 2, 2, 1, 0});
     CHECK(s.meshes[s.items[3].mesh].indices == V{3, 2, 4, 2, 1, 4, 1, 0, 4});
 }
 

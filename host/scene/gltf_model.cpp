@@ -1,11 +1,11 @@
-// tinygltf behind one call for host/scene_gltf.cpp: the JSON's depth is bounded first (tinygltf's
-// extras parser recurses), file access goes through callbacks of ours (no path expansion, no
+// tinygltf behind one call for host/scene/scene_gltf.cpp: the JSON's depth is bounded first
+// (tinygltf's extras parser recurses), file access goes through callbacks of ours (no path expansion, no
 // writes, image files never read, nothing at all for the fuzz targets), images are not decoded,
 // and a node's matrix or T R S becomes a clvis Mat4 (row by row, double).
 #ifdef CLVIS_HAVE_TINYGLTF
 
-#include "gltf_model.hpp"
-#include "scene_parsers.hpp"
+#include "scene/gltf_model.hpp"
+#include "scene/scene_parsers.hpp"
 
 #include <algorithm>
 #include <cctype>

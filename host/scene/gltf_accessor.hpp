@@ -1,6 +1,6 @@
 // glTF 2.0 accessors read into plain arrays, every byte range checked against its buffer view and
-// buffer first, sparse substitutions applied. Used by host/scene_gltf.cpp (positions and indices);
-// errors are Error(Io) "<file>: accessors[i]...: what".
+// buffer first, sparse substitutions applied. Used by host/scene/scene_gltf.cpp (positions and
+// indices); errors are Error(Io) "<file>: accessors[i]...: what".
 #pragma once
 
 #include <tiny_gltf.h>

@@ -1,7 +1,7 @@
 // glTF 2.0 (.gltf, .glb) into a GltfScene: tinygltf parses the JSON, the GLB chunks and the
 // buffers (files or base64 data URIs); this file walks the default scene's nodes and turns each
 // triangle primitive into ids exactly as CONVENTIONS.md's "Instances" section says. Called by
-// load_mesh / load_scene / load_gltf (host/scene_file.cpp) and by the fuzz target fuzz_gltf.
+// load_mesh / load_scene / load_gltf (host/scene/scene_io.cpp) and by the fuzz target fuzz_gltf.
 //
 // Why tinygltf (libtinygltf-dev 2.7) and not assimp (libassimp-dev 5.2.5), measured on the 46
 // .gltf/.glb files of Debian's assimp-testmodels (/usr/share/assimp/models/glTF2):
@@ -16,7 +16,7 @@
 //  - speed: the same order (0.1 to 17 ms a file for both; 2CylinderEngine.glb 17 ms vs 27 ms).
 //  - surface: one header, no post-processing, and its file access goes through callbacks we own
 //    (no path expansion, images never decoded), which the fuzz target compiles instrumented.
-#include "scene_parsers.hpp"
+#include "scene/scene_parsers.hpp"
 
 #include <clvis/scene_io.hpp>
 
@@ -27,8 +27,8 @@
 #include <optional>
 
 #ifdef CLVIS_HAVE_TINYGLTF
-#include "gltf_accessor.hpp"
-#include "gltf_model.hpp"
+#include "scene/gltf_accessor.hpp"
+#include "scene/gltf_model.hpp"
 #endif
 
 namespace clvis {

@@ -1,5 +1,5 @@
 // The tinygltf side of glTF loading: a checked GLB container, a bounded JSON depth, file access
-// through our own callbacks, and each node's local transform. Used by host/scene_gltf.cpp.
+// through our own callbacks, and each node's local transform. Used by host/scene/scene_gltf.cpp.
 #pragma once
 
 #include <clvis/math.hpp>

@@ -1,11 +1,11 @@
-// glTF 2.0 accessors into plain arrays for host/scene_gltf.cpp: each element range is checked
-// against its buffer view and buffer before a byte is read (counts and offsets are untrusted
+// glTF 2.0 accessors into plain arrays for host/scene/scene_gltf.cpp: each element range is
+// checked against its buffer view and buffer before a byte is read (counts and offsets are untrusted
 // 64-bit numbers), components are copied with memcpy (no alignment assumed; glTF is little
 // endian, as every host clvis runs on), then sparse substitutions are applied in order.
 #ifdef CLVIS_HAVE_TINYGLTF
 
-#include "gltf_accessor.hpp"
-#include "scene_parsers.hpp"
+#include "scene/gltf_accessor.hpp"
+#include "scene/scene_parsers.hpp"
 
 #include <cstring>
 
