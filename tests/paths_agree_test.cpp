@@ -397,6 +397,39 @@ TEST_CASE("both paths give acceptable answers on every pixel of the bundled mesh
     check_budget(tally, "bundled meshes");
 }
 
+#ifdef CLVIS_HAVE_TINYGLTF
+TEST_CASE("the Khronos glTF sample models Debian ships, no error on either path", "[device][agree][gltf]")
+{
+    // assimp-testmodels' copies of Khronos samples (glTF-Sample-Models, the glTF Asset Generator's
+    // triangle modes, the tutorial's skin and camera scenes): .glb, embedded and external buffers.
+    const std::string root = "/usr/share/assimp/models/glTF2/";
+    const char* const models[] = {
+        "2CylinderEngine-glTF-Binary/2CylinderEngine.glb", "BoxTextured-glTF-Binary/BoxTextured.glb",
+        "BoxTextured-glTF-Embedded/BoxTextured.gltf", "BoxTextured-glTF/BoxTextured.gltf",
+        "glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf", "ClearCoat-glTF/ClearCoatTest.gltf",
+        "textureTransform/TextureTransformTest.gltf", "cameras/Cameras.gltf", "simple_skin/simple_skin.gltf",
+        "glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_05.gltf",
+        "glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_06.gltf",
+        "glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_12.gltf",
+        "glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_13.gltf"};
+    Device device = Device::open();
+    Tally tally;
+    Random rng(20);
+    for (const char* model : models) {
+        Scene s = load_scene({root + model});
+        Renderer renderer(device, s);
+        std::string m = std::string(model).substr(std::string(model).rfind('/') + 1);
+        agree(renderer, s, m + " framing", Camera::framing(s.bounds()), 160, 120, false, false, tally);
+        agree(renderer, s, m + " framing ortho", Camera::framing(s.bounds(), Projection::Orthographic), 96, 72,
+              false, false, tally);
+        Camera cam = random_camera(s, View::Outside, rng, 96);
+        agree(renderer, s, m + " outside", cam, 128, 96, false, false, tally);
+        agree(renderer, s, m + " outside", cam, 5, 4, true, true, tally);
+    }
+    check_budget(tally, "Khronos glTF samples");
+}
+#endif
+
 TEST_CASE("both paths are right on the bundled meshes from many cameras at larger sizes",
           "[device][agree][slow]")
 {
