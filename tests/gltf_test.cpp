@@ -301,6 +301,14 @@ TEST_CASE("glTF nodes that share a mesh share one prototype, each with its trans
     CHECK(s.triangle_count() == 3);
     CHECK(s.items[1].transform(2, 3) == -2);
     CHECK(s.items[2].transform(2, 2) == 3);
+    // load_scene makes the shared mesh a prototype with one instance per node: the bits of the
+    // flattened mesh, the triangles stored once.
+    std::string path = write_file("shared.gltf", g.embedded(rest));
+    Scene scene = load_scene({path});
+    REQUIRE(scene.meshes().size() == 3);
+    CHECK(scene.prototypes().size() == 1);
+    for (const auto& m : scene.meshes()) CHECK(m.prototype == 0);
+    CHECK(scene.world_positions() == load_mesh(path).positions);
 }
 
 TEST_CASE("malformed glTF files throw Error(Io) naming the file and what is wrong", "[io][gltf]")

@@ -33,8 +33,10 @@ std::vector<float> world_normals(const Scene& scene)
 {
     std::vector<float> out(scene.vertex_count() * 3, 0.0f);
     std::size_t v = 0;
-    for (const auto& m : scene.meshes()) {
-        const auto& n = m.data.normals;
+    for (std::size_t item = 0; item < scene.meshes().size(); ++item) {
+        const auto& m = scene.meshes()[item];
+        const MeshData& data = scene.data_of(item);
+        const auto& n = data.normals;
         if (!n.empty()) {
             const Mat4& t = m.transform;
             // Cofactor matrix of the linear part: proportional to the inverse transpose.
@@ -50,7 +52,7 @@ std::vector<float> world_normals(const Scene& scene)
                 for (int k2 = 0; k2 < 3; ++k2) out[v * 3 + i + k2] = len > 0 ? float(w[k2] / len) : 0.0f;
             }
         }
-        v += m.data.vertex_count();
+        v += data.vertex_count();
     }
     return out;
 }
@@ -77,7 +79,8 @@ void Renderer::Impl::upload_all()
         if (!positions.empty()) queue.enqueueWriteBuffer(gpu.positions, CL_FALSE, 0, positions.size() * 4, positions.data());
         if (!indices.empty()) queue.enqueueWriteBuffer(gpu.indices, CL_FALSE, 0, indices.size() * 4, indices.data());
         gpu.has_normals = false;
-        for (const auto& m : scene.meshes()) gpu.has_normals |= !m.data.normals.empty();
+        for (std::size_t item = 0; item < scene.meshes().size(); ++item)
+            gpu.has_normals |= !scene.data_of(item).normals.empty();
         if (gpu.has_normals) {
             auto normals = world_normals(scene);
             gpu.normals = cl::Buffer(dev().context, CL_MEM_READ_ONLY, pos_bytes);
@@ -201,25 +204,29 @@ void Renderer::Impl::update(const Scene& now_scene)
                                                       "; make a new Renderer for a new scene");
     std::vector<std::size_t> changed;
     for (std::size_t i = 0; i < now.size(); ++i) {
-        if (now[i].data.vertex_count() != old[i].data.vertex_count() ||
-            now[i].data.indices != old[i].data.indices)
+        const MeshData& a = scene.data_of(i);
+        const MeshData& b = m.scene.data_of(i);
+        bool instance = now[i].prototype != Scene::no_prototype;
+        if (now[i].prototype != old[i].prototype || a.vertex_count() != b.vertex_count() || a.indices != b.indices ||
+            (instance && a.positions != b.positions))
             throw Error(Error::Kind::InvalidArgument, "Renderer::update: mesh " + std::to_string(i) +
-                                                          " changed its topology; make a new Renderer");
-        if (now[i].data.positions != old[i].data.positions || now[i].transform.m != old[i].transform.m)
-            changed.push_back(i);
+                                                          " changed its topology or prototype; make a new Renderer");
+        if (a.positions != b.positions || now[i].transform.m != old[i].transform.m) changed.push_back(i);
     }
     if (changed.empty()) return;
     for (std::size_t i : changed) {
-        m.scene.set_positions(i, now[i].data.positions.data(), now[i].data.vertex_count());
+        if (now[i].prototype == Scene::no_prototype)
+            m.scene.set_positions(i, now[i].data.positions.data(), now[i].data.vertex_count());
         m.scene.set_transform(i, now[i].transform);
     }
     std::size_t first = 0;
     for (std::size_t i = 0, c = 0; i < now.size(); ++i) {
+        std::size_t vertices = m.scene.data_of(i).vertex_count();
         if (c < changed.size() && changed[c] == i) {
-            m.upload_positions(first, now[i].data.vertex_count());
+            m.upload_positions(first, vertices);
             ++c;
         }
-        first += now[i].data.vertex_count();
+        first += vertices;
     }
     if (m.ray && m.ray->built()) m.ray->update(m.scene, m.queue);
 }

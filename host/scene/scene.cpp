@@ -1,5 +1,6 @@
-// The host scene: meshes in order, validated on entry, flattened to world space on demand. Ids
-// are the concatenation of the meshes' triangles, as CONVENTIONS.md says.
+// The host scene: items in order (meshes, and instances of prototypes stored once), validated on
+// entry, flattened to world space on demand. Ids are the concatenation of the items' triangles, as
+// CONVENTIONS.md says, so an instanced scene flattens to the bits of its expansion.
 #include <clvis/error.hpp>
 #include <clvis/scene.hpp>
 
@@ -31,11 +32,8 @@ void check_positions(const std::string& name, const float* p, std::size_t vertex
             invalid(name, "vertex " + std::to_string(i / 3) + " has a non-finite coordinate");
 }
 
-} // namespace
-
-std::size_t Scene::add_mesh(MeshData mesh, const Mat4& transform)
+void check_mesh(const std::string& name, const MeshData& mesh)
 {
-    const std::string& name = mesh.name.empty() ? ("#" + std::to_string(meshes_.size())) : mesh.name;
     if (mesh.positions.size() % 3) invalid(name, "positions must hold 3 floats per vertex");
     if (mesh.indices.size() % 3) invalid(name, "indices must hold 3 per triangle");
     if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
@@ -46,22 +44,64 @@ std::size_t Scene::add_mesh(MeshData mesh, const Mat4& transform)
         if (mesh.indices[i] >= vertices)
             invalid(name, "triangle " + std::to_string(i / 3) + " refers to vertex " +
                               std::to_string(mesh.indices[i]) + " of " + std::to_string(vertices));
-    check_transform(name, transform);
-    std::uint64_t total = std::uint64_t(triangle_count_) + mesh.triangle_count();
+}
+
+} // namespace
+
+std::size_t Scene::add_item(Mesh item, const std::string& name)
+{
+    const MeshData& data = item.prototype == no_prototype ? item.data : prototypes_[item.prototype];
+    check_transform(name, item.transform);
+    std::uint64_t total = std::uint64_t(triangle_count_) + data.triangle_count();
     if (total > max_triangles)
         throw Error(Error::Kind::Limit, "mesh '" + name + "': the scene would hold " + std::to_string(total) +
                                             " triangles, more than 32-bit ids allow (" +
                                             std::to_string(max_triangles) + ")");
-    Mesh m;
-    m.first_triangle = std::uint32_t(triangle_count_);
-    m.transform = transform;
-    triangle_count_ += mesh.triangle_count();
-    vertex_count_ += vertices;
-    m.data = std::move(mesh);
-    if (m.data.name.empty()) m.data.name = name;
-    meshes_.push_back(std::move(m));
+    item.first_triangle = std::uint32_t(triangle_count_);
+    triangle_count_ += data.triangle_count();
+    vertex_count_ += data.vertex_count();
+    meshes_.push_back(std::move(item));
     invalidate();
     return meshes_.size() - 1;
+}
+
+std::size_t Scene::add_mesh(MeshData mesh, const Mat4& transform)
+{
+    std::string name = mesh.name.empty() ? ("#" + std::to_string(meshes_.size())) : mesh.name;
+    check_mesh(name, mesh);
+    if (mesh.name.empty()) mesh.name = name;
+    Mesh m;
+    m.transform = transform;
+    m.data = std::move(mesh);
+    return add_item(std::move(m), name);
+}
+
+std::size_t Scene::add_prototype(MeshData mesh)
+{
+    std::string name = mesh.name.empty() ? ("prototype #" + std::to_string(prototypes_.size())) : mesh.name;
+    check_mesh(name, mesh);
+    if (mesh.name.empty()) mesh.name = name;
+    prototypes_.push_back(std::move(mesh));
+    return prototypes_.size() - 1;
+}
+
+std::size_t Scene::add_instance(std::size_t prototype, const Mat4& transform)
+{
+    if (prototype >= prototypes_.size())
+        throw Error(Error::Kind::InvalidArgument, "Scene::add_instance: no prototype " + std::to_string(prototype) +
+                                                      " (the scene has " + std::to_string(prototypes_.size()) + ")");
+    Mesh m;
+    m.transform = transform;
+    m.prototype = prototype;
+    return add_item(std::move(m), prototypes_[prototype].name + " instance " + std::to_string(meshes_.size()));
+}
+
+const MeshData& Scene::data_of(std::size_t mesh) const
+{
+    if (mesh >= meshes_.size())
+        throw Error(Error::Kind::InvalidArgument, "Scene::data_of: no mesh " + std::to_string(mesh));
+    const Mesh& m = meshes_[mesh];
+    return m.prototype == no_prototype ? m.data : prototypes_[m.prototype];
 }
 
 std::size_t Scene::add_mesh(const float* positions, std::size_t vertex_count, const std::uint32_t* indices,
@@ -86,6 +126,9 @@ void Scene::set_positions(std::size_t mesh, const float* positions, std::size_t 
     if (mesh >= meshes_.size())
         throw Error(Error::Kind::InvalidArgument, "Scene::set_positions: no mesh " + std::to_string(mesh));
     Mesh& m = meshes_[mesh];
+    if (m.prototype != no_prototype)
+        invalid(data_of(mesh).name, "set_positions on item " + std::to_string(mesh) +
+                                        ", an instance: its prototype's positions are shared");
     if (vertex_count != m.data.vertex_count())
         invalid(m.data.name, "set_positions got " + std::to_string(vertex_count) + " vertices, the mesh has " +
                                  std::to_string(m.data.vertex_count()));
@@ -98,7 +141,7 @@ void Scene::set_transform(std::size_t mesh, const Mat4& transform)
 {
     if (mesh >= meshes_.size())
         throw Error(Error::Kind::InvalidArgument, "Scene::set_transform: no mesh " + std::to_string(mesh));
-    check_transform(meshes_[mesh].data.name, transform);
+    check_transform(data_of(mesh).name, transform);
     meshes_[mesh].transform = transform;
     invalidate();
 }
@@ -111,8 +154,10 @@ const std::vector<float>& Scene::world_positions() const
         world_positions_.resize(vertex_count_ * 3);
         world_indices_.resize(triangle_count_ * 3);
         std::size_t v = 0, t = 0;
-        for (const Mesh& m : meshes_) {
-            const auto& p = m.data.positions;
+        for (std::size_t k = 0; k < meshes_.size(); ++k) {
+            const Mesh& m = meshes_[k];
+            const MeshData& data = data_of(k);
+            const auto& p = data.positions;
             bool identity = m.transform.is_identity();
             for (std::size_t i = 0; i < p.size(); i += 3) {
                 if (identity) {
@@ -125,13 +170,13 @@ const std::vector<float>& Scene::world_positions() const
                     out[2] = float(w.z);
                 }
             }
-            for (std::uint32_t index : m.data.indices) world_indices_[t++] = index + std::uint32_t(v);
-            v += m.data.vertex_count();
+            for (std::uint32_t index : data.indices) world_indices_[t++] = index + std::uint32_t(v);
+            v += data.vertex_count();
         }
         for (std::size_t i = 0; i < world_positions_.size(); ++i)
             if (!std::isfinite(world_positions_[i]))
                 throw Error(Error::Kind::InvalidArgument,
-                            "mesh '" + meshes_[mesh_of_vertex(i / 3)].data.name +
+                            "mesh '" + data_of(mesh_of_vertex(i / 3)).name +
                                 "': a transformed vertex overflows float32");
         world_valid_ = true;
     }
@@ -142,7 +187,7 @@ std::size_t Scene::mesh_of_vertex(std::size_t vertex) const
 {
     std::size_t first = 0;
     for (std::size_t i = 0; i < meshes_.size(); ++i) {
-        first += meshes_[i].data.vertex_count();
+        first += data_of(i).vertex_count();
         if (vertex < first) return i;
     }
     return meshes_.size() - 1;

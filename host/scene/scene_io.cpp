@@ -196,7 +196,10 @@ private:
             const Json& m = list[i];
             if (!m.is_object()) bad(at, "expected an object {\"file\": ..., \"transform\": [16 numbers]}");
             for (auto it = m.begin(); it != m.end(); ++it)
-                if (it.key() != "file" && it.key() != "transform") bad(at + "." + it.key(), "unknown field");
+                if (it.key() != "file" && it.key() != "transform" && it.key() != "instances")
+                    bad(at + "." + it.key(), "unknown field");
+            if (m.contains("transform") && m.contains("instances"))
+                bad(at, "give either transform or instances, not both");
             if (!m.contains("file") || !m["file"].is_string() || m["file"].get_ref<const std::string&>().empty())
                 bad(at + ".file", "expected a file name");
             Mat4 transform;
@@ -209,7 +212,17 @@ private:
             } catch (const Error& e) {
                 throw Error(e.kind(), path_ + ": " + at + ".file: " + e.what());
             }
-            scene.add_mesh(std::move(mesh), transform);
+            if (!m.contains("instances")) {
+                scene.add_mesh(std::move(mesh), transform);
+                continue;
+            }
+            const Json& list = m["instances"];
+            if (!list.is_array() || list.empty()) bad(at + ".instances", "expected a non-empty array of 16-number matrices");
+            std::vector<Mat4> transforms;
+            for (std::size_t k = 0; k < list.size(); ++k)
+                transforms.push_back(matrix(list[k], at + ".instances[" + std::to_string(k) + "]"));
+            std::size_t prototype = scene.add_prototype(std::move(mesh));
+            for (const Mat4& t : transforms) scene.add_instance(prototype, t);
         }
     }
 
@@ -296,6 +309,22 @@ SceneFile load_scene_file(const std::string& path)
     return detail::parse_scene_file(text, path, load_mesh);
 }
 
+void add_gltf(Scene& scene, GltfScene gltf)
+{
+    // A glTF mesh that several nodes use becomes a prototype with one instance per node.
+    std::vector<std::size_t> uses(gltf.meshes.size(), 0), prototype(gltf.meshes.size(), Scene::no_prototype);
+    for (const GltfScene::Item& item : gltf.items) ++uses[item.mesh];
+    for (const GltfScene::Item& item : gltf.items) {
+        if (uses[item.mesh] == 1) {
+            scene.add_mesh(std::move(gltf.meshes[item.mesh]), item.transform);
+            continue;
+        }
+        if (prototype[item.mesh] == Scene::no_prototype)
+            prototype[item.mesh] = scene.add_prototype(std::move(gltf.meshes[item.mesh]));
+        scene.add_instance(prototype[item.mesh], item.transform);
+    }
+}
+
 Scene load_scene(const std::vector<std::string>& paths)
 {
     if (paths.empty()) throw Error(Error::Kind::InvalidArgument, "load_scene: no files given");
@@ -309,8 +338,7 @@ Scene load_scene(const std::vector<std::string>& paths)
             return load_scene_file(path).scene;
         }
         if (detail::format_from_extension(path) == detail::MeshFormat::Gltf) {
-            GltfScene gltf = load_gltf(path);
-            for (const GltfScene::Item& item : gltf.items) scene.add_mesh(gltf.meshes[item.mesh], item.transform);
+            add_gltf(scene, load_gltf(path));
             continue;
         }
         scene.add_mesh(load_mesh(path));

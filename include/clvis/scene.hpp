@@ -1,7 +1,8 @@
-// Scenes: meshes of triangles, concatenated in the order they are added, each with an optional
-// 4x4 transform. Triangle ids follow CONVENTIONS.md: mesh after mesh, faces in file order,
-// polygons fanned (v0, vk, vk+1), nothing reordered, merged or dropped. A Scene lives on the
-// host; a Renderer uploads it.
+// Scenes: items of triangles, concatenated in the order they are added: meshes, each with an
+// optional 4x4 transform, and instances (a prototype mesh, stored once, and a transform). Triangle
+// ids follow CONVENTIONS.md: item after item, as if each instance were written out as its own
+// mesh; faces in file order, polygons fanned (v0, vk, vk+1), nothing reordered, merged or dropped.
+// A Scene lives on the host; a Renderer uploads it.
 #pragma once
 
 #include <clvis/math.hpp>
@@ -31,10 +32,15 @@ struct MeshData {
 
 class Scene {
 public:
+    /// `prototype` of an item that is a plain mesh.
+    static constexpr std::size_t no_prototype = std::size_t(-1);
+
+    /// One item: a mesh, or an instance of a prototype (then `data` is empty: see data_of).
     struct Mesh {
         MeshData data;
         Mat4 transform;                 ///< object -> world, applied to positions only
-        std::uint32_t first_triangle = 0; ///< id of this mesh's first triangle
+        std::uint32_t first_triangle = 0; ///< id of this item's first triangle
+        std::size_t prototype = no_prototype; ///< index into prototypes(), or no_prototype
     };
 
     /// Adds a mesh and returns its index. Throws Error(InvalidArgument) naming the mesh and the
@@ -46,12 +52,26 @@ public:
                          const std::uint32_t* indices, std::size_t triangle_count,
                          const Mat4& transform = Mat4::identity(), std::string name = {});
 
+    /// Stores a mesh once for instances; it gets no ids of its own. Returns its index in
+    /// prototypes(). Checked as add_mesh checks a mesh.
+    std::size_t add_prototype(MeshData mesh);
+    /// Adds an instance of prototype `prototype` as the next item (its ids follow the items
+    /// before it) and returns its item index in meshes(). Error(InvalidArgument) for a prototype
+    /// that does not exist or a transform add_mesh would refuse; Error(Limit) past max_triangles.
+    /// Today the device still receives the expansion (world_positions); the prototype is stored
+    /// once on the host.
+    std::size_t add_instance(std::size_t prototype, const Mat4& transform);
+
     /// Replaces the positions of mesh `mesh` (same vertex count): animation. Renderers that
     /// were made from this scene pick the change up with Renderer::update().
     void set_positions(std::size_t mesh, const float* positions, std::size_t vertex_count);
+    /// Moves item `mesh`, a mesh or an instance.
     void set_transform(std::size_t mesh, const Mat4& transform);
 
     const std::vector<Mesh>& meshes() const { return meshes_; }
+    const std::vector<MeshData>& prototypes() const { return prototypes_; }
+    /// The triangles of item `mesh`: its own data, or its prototype's.
+    const MeshData& data_of(std::size_t mesh) const;
     std::size_t triangle_count() const { return triangle_count_; }
     std::size_t vertex_count() const { return vertex_count_; }
     bool empty() const { return triangle_count_ == 0; }
@@ -73,7 +93,10 @@ private:
     void invalidate();
     std::size_t mesh_of_vertex(std::size_t vertex) const;
 
+    std::size_t add_item(Mesh item, const std::string& name);
+
     std::vector<Mesh> meshes_;
+    std::vector<MeshData> prototypes_;
     std::size_t triangle_count_ = 0;
     std::size_t vertex_count_ = 0;
     mutable std::vector<float> world_positions_;

@@ -59,10 +59,13 @@ struct GltfScene {
 GltfScene load_gltf(const std::string& path);
 
 /// A scene file (JSON): meshes with optional transforms, an optional camera and image size.
-///   { "meshes": [ {"file": "a.obj", "transform": [16 numbers, row by row]} ],
+///   { "meshes": [ {"file": "a.obj", "transform": [16 numbers, row by row]},
+///                 {"file": "b.ply", "instances": [[16 numbers], [16 numbers], ...]} ],
 ///     "camera": {"eye": [x,y,z], "target": [...], "up": [...], "fov": 45 | "ortho": h,
 ///                "near": n, "far": f},
 ///     "width": 1920, "height": 1080 }
+/// A mesh with "instances" (instead of "transform") is a prototype: its instances are items at
+/// its place in the list, in the order given (CONVENTIONS.md, "Instances").
 /// Relative mesh paths are relative to the scene file's folder. "meshes" is required and not
 /// empty; in "camera", "eye" and "target" are required, "up" defaults to [0,1,0], the projection
 /// to a 45 degree fov, near and far to Camera's defaults. Unknown fields are errors. Every error
@@ -77,7 +80,11 @@ struct SceneFile {
 SceneFile load_scene_file(const std::string& path);
 
 /// Loads each path into one scene in order: mesh files, or a single scene file (.json), whose
-/// camera and size are then dropped. A glTF file adds its items, each a mesh with its transform. No path, or a .json among others, is Error(InvalidArgument).
+/// camera and size are then dropped. A glTF file adds its items in order: a glTF mesh used by one
+/// node as a mesh with its transform, one used by several as a prototype with an instance each. No path, or a .json among others, is Error(InvalidArgument).
 Scene load_scene(const std::vector<std::string>& paths);
+
+/// Appends a glTF scene's items to `scene` as load_scene does.
+void add_gltf(Scene& scene, GltfScene gltf);
 
 } // namespace clvis
