@@ -5,6 +5,7 @@
 #include "catch.hpp"
 
 #include "scene/scene_parsers.hpp"
+#include "test_files.hpp"
 
 #include <clvis/clvis.hpp>
 
@@ -22,18 +23,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path temp_dir()
-{
-    fs::path dir = fs::temp_directory_path() / "clvis-gltf-test";
-    fs::create_directories(dir);
-    return dir;
-}
-
 std::string write_file(const std::string& name, const std::string& bytes)
 {
-    fs::path p = temp_dir() / name;
-    std::ofstream(p, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
-    return p.string();
+    return test::write_temp_file("clvis-gltf-test", name, bytes);
 }
 
 std::string base64(const std::string& bytes)

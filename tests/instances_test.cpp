@@ -2,17 +2,17 @@
 // the C++ API and the scene file. Ids and world positions are those of the expanded scene, so both
 // paths render an instanced scene bit-identical to its expansion, before and after a move.
 #include "catch.hpp"
+#include "test_files.hpp"
 
 #include <clvis/clvis.hpp>
 
+#include <cmath>
+#include <cstdio>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
 using namespace clvis;
-namespace fs = std::filesystem;
 
 namespace {
 
@@ -69,10 +69,7 @@ bool same_bits(const HostVisibility& a, const HostVisibility& b)
 
 std::string write_file(const std::string& name, const std::string& text)
 {
-    fs::path dir = fs::temp_directory_path() / "clvis-instances-test";
-    fs::create_directories(dir);
-    std::ofstream(dir / name) << text;
-    return (dir / name).string();
+    return test::write_temp_file("clvis-instances-test", name, text);
 }
 
 std::string matrix_json(const Mat4& m)

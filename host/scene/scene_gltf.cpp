@@ -7,12 +7,13 @@
 // .gltf/.glb files of Debian's assimp-testmodels (/usr/share/assimp/models/glTF2):
 //  - ids: tinygltf hands over the file's own nodes, accessors and primitive modes, so the walk,
 //    strips, fans, sparse accessors and index order below are ours and follow the spec to the
-//    letter; assimp rebuilds the scene (2CylinderEngine: 29 glTF meshes became 34 aiMeshes),
-//    triangulates strips and fans itself and drops what it judges bad (IndexOutOfRange: faces
-//    dropped; AllIndicesOutOfRange refused as "no faces").
-//  - loads: assimp refused 13 files, 7 of them for material or name fields of the wrong type
-//    that do not touch geometry (wrongTypes/*, texcoord_crash); tinygltf loaded 42 and refused
-//    MissingBin, sceneWrongType and the Draco file (all truly unloadable here).
+//    letter; assimp converts them into aiMeshes of its own faces (strips and fans triangulated by
+//    its code, not checked against the spec's order here) and drops what it judges bad
+//    (IndexOutOfRange: 11 faces of 12 kept; AllIndicesOutOfRange refused as "no faces").
+//  - loads: assimp refused 12 files, 6 of them (wrongTypes/bad{Extension,Number,Object,String,
+//    Uint}, issue_3269) for material, texture or name fields that play no part in visibility;
+//    tinygltf parsed 43 and refused MissingBin, sceneWrongType (its buffer is missing too) and the
+//    Draco file. With the checks below 26 load and 20 fail with a message naming what is wrong.
 //  - speed: the same order (0.1 to 17 ms a file for both; 2CylinderEngine.glb 17 ms vs 27 ms).
 //  - surface: one header, no post-processing, and its file access goes through callbacks we own
 //    (no path expansion, images never decoded), which the fuzz target compiles instrumented.
