@@ -204,7 +204,7 @@ void Renderer::Impl::update(const Scene& now_scene)
                                                       "; make a new Renderer for a new scene");
     std::vector<std::size_t> changed;
     for (std::size_t i = 0; i < now.size(); ++i) {
-        const MeshData& a = scene.data_of(i);
+        const MeshData& a = now_scene.data_of(i);
         const MeshData& b = m.scene.data_of(i);
         bool instance = now[i].prototype != Scene::no_prototype;
         if (now[i].prototype != old[i].prototype || a.vertex_count() != b.vertex_count() || a.indices != b.indices ||
