@@ -73,7 +73,7 @@ private:
 struct RayGen {
     bool ortho = false;
     Vec3 eye, r, u, f;
-    double right = 0, top = 0;
+    Intrinsics k; ///< screen -> raster map
     int width = 0, height = 0;
     float tnear = 0, tfar = 0;
 
@@ -81,14 +81,12 @@ struct RayGen {
     {
         camera.validate();
         CameraFrame fr = camera.frame();
-        Canvas cv = camera.canvas(double(w) / h);
+        k = camera.raster_map(w, h);
         ortho = camera.projection == Projection::Orthographic;
         eye = camera.eye;
         r = fr.r;
         u = fr.u;
         f = fr.f;
-        right = cv.right;
-        top = cv.top;
         tnear = float(camera.near);
         tfar = float(camera.far);
     }
@@ -96,8 +94,8 @@ struct RayGen {
     /// Origin and direction of the ray through the centre of pixel (i, j).
     void at(int i, int j, float org[3], float dir[3]) const
     {
-        double sx = (2 * (i + 0.5) / width - 1) * right;
-        double sy = (1 - 2 * (j + 0.5) / height) * top;
+        double sx = (i + 0.5 - k.cx) / k.fx;
+        double sy = (k.cy - (j + 0.5)) / k.fy;
         Vec3 o = eye, d = f;
         if (ortho) o = eye + r * sx + u * sy;
         else d = r * sx + u * sy + f;

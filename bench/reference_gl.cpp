@@ -227,7 +227,7 @@ ReferenceResult GlReference::render(const Camera& camera, int width, int height,
     if (status != GL_FRAMEBUFFER_COMPLETE) throw std::runtime_error("gl: framebuffer incomplete: " + hex(status));
 
     // Camera matrices are row-major (p' = M p): transpose on upload.
-    Mat4 m = camera.projection_matrix(double(width) / height) * camera.view_matrix();
+    Mat4 m = camera.projection_matrix(width, height) * camera.view_matrix();
     float clip_from_world[16];
     for (int k = 0; k < 16; ++k) clip_from_world[k] = float(m.m[k]);
     glUseProgram(g.program);

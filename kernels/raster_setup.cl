@@ -70,8 +70,8 @@ static void emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_ra
 }
 
 /* Clips the triangle against near and the guard band and fans the polygon into triangles. */
-static void clip_and_emit(clvis_clip_vertex p0, clvis_clip_vertex p1, clvis_clip_vertex p2, uint id, float gx,
-                          float gy, raster_setup_out out)
+static void clip_and_emit(clvis_clip_vertex p0, clvis_clip_vertex p1, clvis_clip_vertex p2, uint id, clvis_guard g,
+                          raster_setup_out out)
 {
     clvis_clip_vertex poly[CLVIS_CLIP_CAPACITY], next[CLVIS_CLIP_CAPACITY];
     poly[0] = p0;
@@ -82,8 +82,8 @@ static void clip_and_emit(clvis_clip_vertex p0, clvis_clip_vertex p1, clvis_clip
         int m = 0;
         for (int k = 0; k < n; ++k) {
             clvis_clip_vertex a = poly[k], b = poly[k + 1 == n ? 0 : k + 1];
-            float da = clvis_clip_distance(a, plane, out.cam.near_d, gx, gy, out.cam.ortho);
-            float db = clvis_clip_distance(b, plane, out.cam.near_d, gx, gy, out.cam.ortho);
+            float da = clvis_clip_distance(a, plane, out.cam.near_d, g, out.cam.ortho);
+            float db = clvis_clip_distance(b, plane, out.cam.near_d, g, out.cam.ortho);
             if (da >= 0.0f) next[m++] = a;
             if ((da >= 0.0f) != (db >= 0.0f)) next[m++] = clvis_clip_cut(a, da, b, db);
         }
@@ -138,7 +138,7 @@ __kernel void raster_setup(clvis_camera_gpu cam, __global const float* positions
     raster_setup_out out = {cam, cull, keys, tris, capacity, counters};
     if ((pa.code | pb.code | pc.code) & CLVIS_OUT_CLIP) {
         clip_and_emit(load_camera_vertex(cam, positions, a), load_camera_vertex(cam, positions, b),
-                      load_camera_vertex(cam, positions, c), id, clvis_guard_x(cam), clvis_guard_y(cam), out);
+                      load_camera_vertex(cam, positions, c), id, clvis_guard_of(cam), out);
         return;
     }
     emit_triangle(widen(pa), widen(pb), widen(pc), id, out);

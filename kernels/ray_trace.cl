@@ -200,8 +200,8 @@ static void make_packet(clvis_camera_gpu cam, int x0, int y0, packet* out)
     lanes_f rx = convert_float16(min((lanes_i)(x0) + CLVIS_LANE_X, (lanes_i)(cam.width - 1))) + 0.5f;
     lanes_f ry = convert_float16(min((lanes_i)(y0) + CLVIS_LANE_Y, (lanes_i)(cam.height - 1))) + 0.5f;
     /* clvis_screen_from_raster */
-    lanes_f sx = (2.0f * rx / (float)cam.width - 1.0f) * cam.right;
-    lanes_f sy = (1.0f - 2.0f * ry / (float)cam.height) * cam.top;
+    lanes_f sx = (rx - cam.cx) / cam.fx;
+    lanes_f sy = (cam.cy - ry) / cam.fy;
     /* clvis_primary_ray */
     lanes_f ox, oy, oz, dx, dy, dz;
     if (cam.ortho) {

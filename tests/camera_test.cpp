@@ -75,12 +75,14 @@ TEST_CASE("the OpenGL matrices agree with the direct projection", "[camera]")
 {
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> u(-3, 3);
-    for (Projection proj : {Projection::Perspective, Projection::Orthographic}) {
+    for (int kind = 0; kind < 3; ++kind) {
         Camera cam = Camera::perspective({1, 2, 5}, {0.2, -0.1, 0}, {0, 1, 0}, 50, 0.5, 40);
+        Projection proj = kind == 1 ? Projection::Orthographic : Projection::Perspective;
         cam.projection = proj;
         cam.ortho_height = 3;
+        if (kind == 2) cam.intrinsics = Intrinsics{500, 420, 250.5, 290}; // off-centre
         const int w = 640, h = 360;
-        Mat4 pv = cam.projection_matrix(double(w) / h) * cam.view_matrix();
+        Mat4 pv = cam.projection_matrix(w, h) * cam.view_matrix();
         for (int i = 0; i < 50; ++i) {
             Vec3 p{u(rng), u(rng), u(rng)};
             Vec3 direct = cam.to_raster(p, w, h);
@@ -162,9 +164,10 @@ TEST_CASE("the float32 projection of the kernels agrees with the double-precisio
 {
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(-1, 1);
-    for (Projection proj : {Projection::Perspective, Projection::Orthographic}) {
+    for (int kind = 0; kind < 3; ++kind) {
         Camera cam = Camera::perspective({0.5, 0.8, 3}, {0, 0, 0}, {0, 1, 0}, 45, 0.1, 20);
-        cam.projection = proj;
+        if (kind == 1) cam.projection = Projection::Orthographic;
+        if (kind == 2) cam.intrinsics = Intrinsics{1500, 1320, 700.25, 610.5}; // off-centre
         const int w = 1920, h = 1080;
         clvis_camera_gpu g = detail::make_gpu_camera(cam, w, h);
         for (int i = 0; i < 200; ++i) {
@@ -266,4 +269,123 @@ TEST_CASE("camera flags reproduce the camera exactly", "[camera]")
     CHECK(flags.find("--eye 0.1,0.3333333333333333,-2e-07") != std::string::npos);
     CHECK(flags.find("--fov 33.3") != std::string::npos);
     CHECK(flags.find("--far 1e+06") != std::string::npos);
+}
+
+TEST_CASE("intrinsics of a field of view give the same projection", "[camera]")
+{
+    Camera fov = Camera::perspective({1, 2, 5}, {0.2, -0.1, 0}, {0, 1, 0}, 50, 0.5, 40);
+    const int w = 640, h = 360;
+    double f = h / (2 * std::tan(25 * pi / 180));
+    Camera k = Camera::from_intrinsics(fov.eye, fov.target, fov.up, {f, f, w / 2.0, h / 2.0}, 0.5, 40);
+    Intrinsics m = fov.raster_map(w, h);
+    CHECK(m.fx == Approx(f).epsilon(1e-14));
+    CHECK(m.fy == Approx(f).epsilon(1e-14));
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-3, 3);
+    for (int i = 0; i < 50; ++i) {
+        Vec3 p{u(rng), u(rng), u(rng)};
+        Vec3 a = fov.to_raster(p, w, h), b = k.to_raster(p, w, h);
+        CHECK(a.x == Approx(b.x).margin(1e-9));
+        CHECK(a.y == Approx(b.y).margin(1e-9));
+    }
+    // The conventions' formula: x = cx + fx P.x / -P.z, y = cy - fy P.y / -P.z.
+    Camera off = Camera::from_intrinsics({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, {100, 80, 30.5, 20.25}, 0.1, 10);
+    Vec3 r = off.to_raster({0.5, -0.25, -2}, 64, 48);
+    CHECK(r.x == Approx(30.5 + 100 * 0.25));
+    CHECK(r.y == Approx(20.25 + 80 * 0.125));
+    Ray ray = off.primary_ray(r.x, r.y, 64, 48);
+    CHECK(ray.direction.x == Approx(0.25));
+    CHECK(ray.direction.y == Approx(-0.125));
+    CHECK(ray.direction.z == Approx(-1));
+    CHECK(off.to_flags().find("--intrinsics 100,80,30.5,20.25") != std::string::npos);
+}
+
+TEST_CASE("OpenCV's intrinsics and extrinsics land on its pixels plus half a pixel", "[camera]")
+{
+    // OpenCV: x_cv = fx Xc / Zc + cx, y_cv = fy Yc / Zc + cy with Xc = R X + t, z forward, y down.
+    const double fx = 700, fy = 650, cx = 310.2, cy = 245.7;
+    double a = 0.3, b = -0.2;
+    double R[3][3] = {{std::cos(a), 0, std::sin(a)}, {0, 1, 0}, {-std::sin(a), 0, std::cos(a)}};
+    double Rx[3][3] = {{1, 0, 0}, {0, std::cos(b), -std::sin(b)}, {0, std::sin(b), std::cos(b)}};
+    Mat4 w2c;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            double s = 0;
+            for (int k = 0; k < 3; ++k) s += Rx[i][k] * R[k][j];
+            w2c(i, j) = s;
+        }
+    w2c(0, 3) = 0.4;
+    w2c(1, 3) = -0.3;
+    w2c(2, 3) = 6;
+    Camera cam = Camera::from_opencv(fx, fy, cx, cy, w2c, 0.1, 100);
+    cam.validate();
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-1.5, 1.5);
+    for (int i = 0; i < 50; ++i) {
+        Vec3 p{u(rng), u(rng), u(rng)};
+        Vec3 c = w2c.transform_point(p);
+        Vec3 r = cam.to_raster(p, 640, 480);
+        CHECK(r.x == Approx(fx * c.x / c.z + cx + 0.5).margin(1e-9));
+        CHECK(r.y == Approx(fy * c.y / c.z + cy + 0.5).margin(1e-9));
+        CHECK(r.z == Approx(c.z).epsilon(1e-12)); // view depth is OpenCV's Zc
+    }
+    Intrinsics k = Intrinsics::from_opencv(fx, fy, cx, cy);
+    CHECK(k.cx == cx + 0.5);
+    CHECK(k.cy == cy + 0.5);
+}
+
+TEST_CASE("a pose matrix round-trips and a bad one is refused", "[camera]")
+{
+    Camera cam = Camera::perspective({1, 2, 5}, {0.2, -0.1, 0}, {0.1, 1, 0}, 50, 0.5, 40);
+    Mat4 pose = cam.pose();
+    Camera back = Camera::from_pose(pose, cam);
+    CameraFrame a = cam.frame(), b = back.frame();
+    CHECK(length(a.r - b.r) < 1e-12);
+    CHECK(length(a.u - b.u) < 1e-12);
+    CHECK(length(a.f - b.f) < 1e-12);
+    CHECK(length(cam.eye - back.eye) == 0);
+    CHECK(back.fov_y == cam.fov_y);
+    // Its columns are r, u, -f and eye; view_matrix is its inverse.
+    Mat4 id = cam.view_matrix() * pose;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) CHECK(id(i, j) == Approx(i == j ? 1 : 0).margin(1e-12));
+    auto refused = [](Mat4 m, const char* what) {
+        try {
+            Camera::from_pose(m);
+        } catch (const Error& e) {
+            CHECK(e.kind() == Error::Kind::InvalidArgument);
+            CHECK(std::string(e.what()).find(what) != std::string::npos);
+            return true;
+        }
+        return false;
+    };
+    Mat4 m = pose;
+    m(0, 0) *= 1 + 1e-5;
+    CHECK(refused(m, "orthonormal"));
+    m = pose;
+    for (int i = 0; i < 3; ++i) m(i, 0) = -m(i, 0);
+    CHECK(refused(m, "reflection"));
+    m = pose;
+    m(3, 0) = 0.5;
+    CHECK(refused(m, "last row"));
+    m = pose;
+    m(1, 3) = NAN;
+    CHECK(refused(m, "finite"));
+    m = pose;
+    m(0, 0) *= 1 + 5e-7; // within the tolerance
+    CHECK_FALSE(refused(m, ""));
+    auto message = [](const Camera& c) {
+        try {
+            c.validate();
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    Camera bad = cam;
+    bad.intrinsics = Intrinsics{0, 10, 1, 1};
+    CHECK(message(bad).find("intrinsics") != std::string::npos);
+    bad.intrinsics = Intrinsics{10, 10, 1, 1};
+    bad.projection = Projection::Orthographic;
+    CHECK(message(bad).find("perspective") != std::string::npos);
 }

@@ -88,6 +88,7 @@ Uncertainty uncertainty(const Scene& s, const Camera& c, int height)
     double eye = norm(c.eye);
     bool persp = c.projection == Projection::Perspective;
     double px_scale = persp ? height / (2 * std::tan(c.fov_y / 2 * pi / 180)) : height / c.ortho_height;
+    if (c.intrinsics) px_scale = std::fmax(c.intrinsics->fx, c.intrinsics->fy);
     Uncertainty u;
     for (std::uint32_t id = 0; id < s.triangle_count(); ++id) {
         float v[9];
@@ -793,4 +794,70 @@ TEST_CASE("depth ranges from 1e-3 to 1e6, the scene scaled, not the camera", "[d
                   false, false, tally);
     }
     check_budget(tally, "scaled scenes");
+}
+
+TEST_CASE("intrinsics with an off-centre principal point and pose matrices agree", "[device][agree]")
+{
+    Device device = Device::open();
+    Tally tally;
+    Random rng(31);
+    for (const char* name : {"stanford-bunny", "spot"}) {
+        Scene s = load_bundled(name);
+        Renderer renderer(device, s);
+        for (int i = 0; i < 3; ++i) {
+            const int w = 96 + 16 * i, h = 72;
+            Camera base = random_camera(s, i == 2 ? View::Close : View::Outside, rng, h);
+            // Focal lengths of the base's field of view, unequal, and an optical axis off the image.
+            double f = h / (2 * std::tan(base.fov_y / 2 * pi / 180));
+            Intrinsics k{f * rng.uniform(0.8, 1.2), f * rng.uniform(0.8, 1.2), w * rng.uniform(-0.3, 1.3),
+                         h * rng.uniform(-0.3, 1.3)};
+            Camera cam = Camera::from_pose(base.pose(), base);
+            cam.intrinsics = k;
+            cam.near = precise_near(s, cam.eye, true, 2 * std::atan(h / (2 * std::fmax(k.fx, k.fy))) * 180 / pi, h);
+            cam.near = std::fmax(cam.near, base.near);
+            agree(renderer, s, std::string(name) + " intrinsics+pose " + std::to_string(i), cam, w, h, false, true,
+                  tally);
+        }
+    }
+    check_budget(tally, "intrinsics and poses");
+}
+
+TEST_CASE("a shifted principal point equals a crop of a larger image", "[device][agree]")
+{
+    Device device = Device::open();
+    Scene s = load_bundled("stanford-bunny");
+    Renderer renderer(device, s);
+    const int big_w = 160, big_h = 120, w = 64, h = 48, ox = 71, oy = 37;
+    Camera big = Camera::framing(s.bounds());
+    Intrinsics k = big.raster_map(big_w, big_h);
+    Camera crop = big;
+    crop.intrinsics = Intrinsics{k.fx, k.fy, k.cx - ox, k.cy - oy};
+    Referee ref_big(s, big, big_w, big_h), ref(s, crop, w, h);
+    for (Path p : {Path::Raster, Path::Ray}) {
+        HostVisibility whole = renderer.render(big, big_w, big_h, p).read();
+        HostVisibility part = renderer.render(crop, w, h, p).read();
+        REQUIRE(ref.check(part).errors == 0);
+        std::size_t same = 0, judged = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                std::uint32_t a = part.id(x, y), b = whole.id(x + ox, y + oy);
+                same += a == b;
+                // The crop's answer is right in the large image, and the large one's in the crop.
+                INFO(to_string(p) << " pixel " << x << "," << y);
+                CHECK(ref_big.judge(x + ox, y + oy, a).acceptable());
+                CHECK(ref.judge(x, y, b).acceptable());
+                bool ambiguous = true;
+                std::uint32_t id = ref.reference(x, y, &ambiguous);
+                bool ambiguous_big = true;
+                std::uint32_t id_big = ref_big.reference(x + ox, y + oy, &ambiguous_big);
+                if (!ambiguous && !ambiguous_big) {
+                    ++judged;
+                    CHECK(id == id_big);
+                }
+            }
+        std::printf("crop %s: %zu of %d pixels equal, %zu unambiguous references equal\n", to_string(p), same, w * h,
+                    judged);
+        CHECK(same >= std::size_t(w * h * 99 / 100));
+        CHECK(judged > std::size_t(w * h / 4));
+    }
 }

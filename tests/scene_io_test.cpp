@@ -465,6 +465,21 @@ TEST_CASE("a JSON scene file gives meshes with transforms, a camera and an image
     CHECK(o.camera->ortho_height == 3);
     CHECK(o.width == 0);
     CHECK(load_scene({path}).triangle_count() == 2);
+
+    // A pose (camera-to-world, row by row) and intrinsics in pixels: the camera at (1, 2, 3)
+    // looking down world -x with y up.
+    std::string posed = write_file("scene/posed.json", R"({"meshes": [{"file": "sub/tri.obj"}],
+        "camera": {"pose": [0, 0, 1, 1,  0, 1, 0, 2,  -1, 0, 0, 3,  0, 0, 0, 1],
+                   "intrinsics": [500, 400, 320.5, 240.25], "near": 0.5, "far": 50}})");
+    SceneFile q = load_scene_file(posed);
+    REQUIRE(q.camera.has_value());
+    REQUIRE(q.camera->intrinsics.has_value());
+    CHECK(q.camera->intrinsics->cx == 320.5);
+    CHECK(q.camera->intrinsics->fy == 400);
+    CHECK(q.camera->eye.x == 1);
+    CHECK(q.camera->frame().f.x == -1);
+    CHECK(q.camera->frame().r.z == -1);
+    CHECK(q.camera->near == 0.5);
 }
 
 TEST_CASE("bad scene files name the file and the JSON path of the bad field", "[io]")
@@ -497,6 +512,16 @@ TEST_CASE("bad scene files name the file and the JSON path of the bad field", "[
         {R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [0, 0, 1], "target": [0, 0, 0], "near": -1}})",
          "camera: "},
         {R"({"meshes": [{"file": "tri.obj"}], "camera": {"target": [0, 0, 0]}})", "camera.eye: missing"},
+        {R"({"meshes": [{"file": "tri.obj"}], "camera": {"pose": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1], "eye": [0, 0, 1]}})",
+         "camera.eye: give either pose or eye"},
+        {R"({"meshes": [{"file": "tri.obj"}], "camera": {"pose": [2,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]}})",
+         "camera.pose: camera: pose: the 3x3 part is not orthonormal"},
+        {R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [0, 0, 1], "target": [0, 0, 0], "intrinsics": [1, 1, 0]}})",
+         "camera.intrinsics: expected 4 numbers"},
+        {R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [0, 0, 1], "target": [0, 0, 0], "intrinsics": [1, 1, 0, 0], "fov": 3}})",
+         "camera.intrinsics: replaces fov and ortho"},
+        {R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [0, 0, 1], "target": [0, 0, 0], "intrinsics": [-1, 1, 0, 0]}})",
+         "camera: camera: intrinsics: fx and fy must be"},
         {R"({"meshes": [{"file": "tri.obj"}], "width": 640.5})", "width: expected an integer"},
         {R"({"meshes": [{"file": "tri.obj"}], "height": 0})", "height: expected an integer"},
         {R"({"meshes": [{"file": "tri.obj"}],)", "invalid JSON"},

@@ -66,8 +66,13 @@ void CameraOptions::add_to(CLI::App& app)
     app.add_option("--film-gate", film_gate, "physical camera: film gate W,H in mm (e.g. 36,24)");
     app.add_option("--fit", fit, "physical camera: fill or overscan (default fill)")
         ->check(CLI::IsMember({"fill", "overscan"}));
+    auto* intr = app.add_option("--intrinsics", intrinsics,
+                                "focal lengths and principal point FX,FY,CX,CY in pixels (pixel i's centre at i+0.5)");
+    auto* pose_opt = app.add_option("--pose", pose, "camera-to-world 4x4 matrix, 16 numbers row by row (replaces --eye/--target/--up)");
     fov_opt->excludes(ortho_opt);
     focal->excludes(fov_opt)->excludes(ortho_opt);
+    intr->excludes(fov_opt)->excludes(ortho_opt)->excludes(focal);
+    for (const char* name : {"--eye", "--target", "--up"}) pose_opt->excludes(app.get_option(name));
     app.add_option("--near", near, "near view depth (> 0)");
     app.add_option("--far", far, "far view depth (> near)");
     app.add_option("--width", width, "image width in pixels")->default_val(1920);
@@ -76,7 +81,7 @@ void CameraOptions::add_to(CLI::App& app)
 
 bool CameraOptions::framed(const std::optional<Camera>& from_file) const
 {
-    return eye.empty() && target.empty() && !from_file;
+    return eye.empty() && target.empty() && pose.empty() && !from_file;
 }
 
 Camera CameraOptions::resolve(const Scene& scene, const std::optional<Camera>& from_file) const
@@ -90,14 +95,25 @@ Camera CameraOptions::resolve(const Scene& scene, const std::optional<Camera>& f
     Camera cam;
     if (framed(from_file)) {
         cam = Camera::framing(scene.bounds(), projection);
-    } else if (from_file && eye.empty() && target.empty()) {
+    } else if (from_file && eye.empty() && target.empty() && pose.empty()) {
         cam = *from_file;
     } else {
-        if (eye.empty()) bad("--eye", "is needed with --target");
-        if (target.empty()) bad("--target", "is needed with --eye");
-        cam.eye = parse_vec3(eye, "--eye");
-        cam.target = parse_vec3(target, "--target");
-        cam.up = {0, 1, 0};
+        if (!pose.empty()) {
+            auto v = parse_numbers(pose, 16, "--pose", "16 numbers");
+            Mat4 m;
+            std::copy(v.begin(), v.end(), m.m.begin());
+            try {
+                cam = Camera::from_pose(m);
+            } catch (const Error& e) {
+                bad("--pose", std::string(e.what()).substr(8));
+            }
+        } else {
+            if (eye.empty()) bad("--eye", "is needed with --target");
+            if (target.empty()) bad("--target", "is needed with --eye");
+            cam.eye = parse_vec3(eye, "--eye");
+            cam.target = parse_vec3(target, "--target");
+            cam.up = {0, 1, 0};
+        }
         cam.projection = projection;
         // Depth range of the framing camera unless --near/--far say otherwise.
         Bounds b = scene.bounds();
@@ -123,6 +139,11 @@ Camera CameraOptions::resolve(const Scene& scene, const std::optional<Camera>& f
                                fit == "overscan" ? FilmFit::Overscan : FilmFit::Fill, double(width) / height,
                                cam.near, cam.far);
     }
+    if (!intrinsics.empty()) {
+        auto k = parse_numbers(intrinsics, 4, "--intrinsics", "FX,FY,CX,CY");
+        cam.projection = Projection::Perspective;
+        cam.intrinsics = Intrinsics{k[0], k[1], k[2], k[3]};
+    }
     if (near) cam.near = *near;
     if (far) cam.far = *far;
     try {
@@ -130,7 +151,8 @@ Camera CameraOptions::resolve(const Scene& scene, const std::optional<Camera>& f
     } catch (const Error& e) {
         std::string msg = e.what();
         for (auto [word, flag] : {std::pair{"eye", "--eye"}, {"target", "--target"}, {"up", "--up"},
-                                  {"near", "--near"}, {"far", "--far"}, {"fov", "--fov"}, {"ortho", "--ortho"}})
+                                  {"near", "--near"}, {"far", "--far"}, {"fov", "--fov"}, {"ortho", "--ortho"},
+                                  {"intrinsics", "--intrinsics"}})
             if (msg.rfind(std::string("camera: ") + word, 0) == 0) bad(flag, msg.substr(8));
         throw;
     }

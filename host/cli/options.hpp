@@ -12,8 +12,9 @@
 
 namespace clvis::cli {
 
-/// --eye --target --up --fov | --ortho [HEIGHT] | --focal-length --film-gate --fit, --near --far
-/// --width --height. With no camera flag, the framing camera of the scene.
+/// --eye --target --up | --pose M, --fov | --ortho [HEIGHT] | --focal-length --film-gate --fit |
+/// --intrinsics FX,FY,CX,CY, --near --far --width --height. With no camera flag, the framing
+/// camera of the scene.
 struct CameraOptions {
     std::string eye, target, up;      ///< "X,Y,Z" as given
     std::optional<double> fov;
@@ -22,6 +23,8 @@ struct CameraOptions {
     std::optional<double> focal_length;
     std::string film_gate;            ///< "W,H" in mm
     std::string fit = "fill";
+    std::string intrinsics;           ///< "FX,FY,CX,CY" in pixels
+    std::string pose;                 ///< 16 numbers, camera-to-world, row by row
     std::optional<double> near, far;
     int width = 1920, height = 1080;
 

@@ -18,7 +18,7 @@ namespace clvis::detail {
 
 static_assert(sizeof(clvis_raster_tri) == 112, "layout shared with kernels/shared/raster.h");
 static_assert(sizeof(clvis_raster_projected) == 16, "layout shared with kernels/shared/raster.h");
-static_assert(sizeof(clvis_camera_gpu) == 80, "layout shared with kernels/shared/camera.h");
+static_assert(sizeof(clvis_camera_gpu) == 96, "layout shared with kernels/shared/camera.h");
 
 namespace {
 

@@ -34,9 +34,9 @@ bool zero_area(Vec3 p0, Vec3 p1, Vec3 p2)
 
 Linear Referee::Impl::to_raster(double kx, double ky, double k0) const
 {
-    // sx = (2x/W - 1) right, sy = (1 - 2y/H) top.
-    Canvas cv = camera.canvas(double(width) / height);
-    return {kx * 2 * cv.right / width, -ky * 2 * cv.top / height, -kx * cv.right + ky * cv.top + k0};
+    // sx = (x - cx) / fx, sy = (cy - y) / fy.
+    Intrinsics k = camera.raster_map(width, height);
+    return {kx / k.fx, -ky / k.fy, -kx * k.cx / k.fx + ky * k.cy / k.fy + k0};
 }
 
 void Referee::Impl::project(Vec3 p, double* x, double* y) const

@@ -11,7 +11,7 @@ namespace clvis::detail {
 clvis_camera_gpu make_gpu_camera(const Camera& camera, int width, int height)
 {
     CameraFrame fr = camera.frame();
-    Canvas cv = camera.canvas(double(width) / height);
+    Intrinsics k = camera.raster_map(width, height);
     clvis_camera_gpu g{};
     g.eye_x = float(camera.eye.x); g.eye_y = float(camera.eye.y); g.eye_z = float(camera.eye.z);
     g.near_d = float(camera.near);
@@ -19,15 +19,17 @@ clvis_camera_gpu make_gpu_camera(const Camera& camera, int width, int height)
     g.r_x = float(fr.r.x); g.r_y = float(fr.r.y); g.r_z = float(fr.r.z);
     g.u_x = float(fr.u.x); g.u_y = float(fr.u.y); g.u_z = float(fr.u.z);
     g.f_x = float(fr.f.x); g.f_y = float(fr.f.y); g.f_z = float(fr.f.z);
-    g.right = float(cv.right);
-    g.top = float(cv.top);
+    g.fx = float(k.fx);
+    g.fy = float(k.fy);
+    g.cx = float(k.cx);
+    g.cy = float(k.cy);
     g.width = width;
     g.height = height;
     g.ortho = camera.projection == Projection::Orthographic ? 1 : 0;
     return g;
 }
 
-static_assert(sizeof(clvis_camera_gpu) == 80, "layout shared with kernels/shared/camera.h");
+static_assert(sizeof(clvis_camera_gpu) == 96, "layout shared with kernels/shared/camera.h");
 
 cl::Kernel make_clear_kernel(Device::Impl& device)
 {

@@ -1,5 +1,6 @@
-// The double-precision camera of CONVENTIONS.md: validation, the look-at frame, the canvas, the
-// projection to raster space, primary rays, OpenGL matrices, and the framing camera.
+// The double-precision camera of CONVENTIONS.md: validation, the look-at frame and poses, the
+// canvas and intrinsics, the projection to raster space, primary rays, OpenGL matrices, and the
+// framing camera.
 #include <clvis/camera.hpp>
 #include <clvis/error.hpp>
 
@@ -36,7 +37,68 @@ Camera placed(Vec3 eye, Vec3 target, Vec3 up, Projection projection, double near
     return c;
 }
 
+/// Tolerance of a pose's rotation: CONVENTIONS.md "Cameras from intrinsics".
+constexpr double pose_tolerance = 1e-6;
+
+void check_pose(const Mat4& m)
+{
+    for (double v : m.m)
+        if (!std::isfinite(v)) invalid("pose has a non-finite entry");
+    if (m(3, 0) != 0 || m(3, 1) != 0 || m(3, 2) != 0 || m(3, 3) != 1)
+        invalid("pose: the last row must be 0 0 0 1");
+    for (int a = 0; a < 3; ++a)
+        for (int b = a; b < 3; ++b) {
+            double d = m(0, a) * m(0, b) + m(1, a) * m(1, b) + m(2, a) * m(2, b);
+            if (!(std::fabs(d - (a == b ? 1.0 : 0.0)) <= pose_tolerance))
+                invalid("pose: the 3x3 part is not orthonormal within 1e-6 (columns " + std::to_string(a) +
+                        " and " + std::to_string(b) + " have dot product " + number(d) + ")");
+        }
+    Vec3 c0{m(0, 0), m(1, 0), m(2, 0)}, c1{m(0, 1), m(1, 1), m(2, 1)}, c2{m(0, 2), m(1, 2), m(2, 2)};
+    if (!(dot(cross(c0, c1), c2) > 0)) invalid("pose: the 3x3 part is a reflection, not a rotation");
+}
+
 } // namespace
+
+Intrinsics Intrinsics::from_opencv(double fx, double fy, double cx_cv, double cy_cv)
+{
+    return {fx, fy, cx_cv + 0.5, cy_cv + 0.5};
+}
+
+Camera Camera::from_intrinsics(Vec3 eye, Vec3 target, Vec3 up, const Intrinsics& k, double near, double far)
+{
+    Camera c = perspective(eye, target, up, 45, near, far);
+    c.intrinsics = k;
+    return c;
+}
+
+Camera Camera::from_pose(const Mat4& pose, const Camera& lens)
+{
+    check_pose(pose);
+    Camera c = lens;
+    c.eye = {pose(0, 3), pose(1, 3), pose(2, 3)};
+    c.target = c.eye - Vec3{pose(0, 2), pose(1, 2), pose(2, 2)}; // the third column is -f
+    c.up = {pose(0, 1), pose(1, 1), pose(2, 1)};
+    return c;
+}
+
+Camera Camera::from_pose(const Mat4& pose) { return from_pose(pose, Camera{}); }
+
+Camera Camera::from_opencv(double fx, double fy, double cx, double cy, const Mat4& world_to_camera, double near,
+                           double far)
+{
+    // Camera-to-world of OpenCV's frame is [R^T | -R^T t]; its axes (x, y, z) are this frame's
+    // (r, -u, f), so the pose's columns r, u, -f are R^T's columns negated after the first.
+    Mat4 pose;
+    for (int i = 0; i < 3; ++i) {
+        pose(i, 0) = world_to_camera(0, i);
+        pose(i, 1) = -world_to_camera(1, i);
+        pose(i, 2) = -world_to_camera(2, i);
+        pose(i, 3) = -(world_to_camera(0, i) * world_to_camera(0, 3) + world_to_camera(1, i) * world_to_camera(1, 3) +
+                       world_to_camera(2, i) * world_to_camera(2, 3));
+    }
+    return from_pose(pose, from_intrinsics({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, Intrinsics::from_opencv(fx, fy, cx, cy),
+                                           near, far));
+}
 
 Camera Camera::perspective(Vec3 eye, Vec3 target, Vec3 up, double fov_y_degrees, double near, double far)
 {
@@ -106,7 +168,14 @@ void Camera::validate() const
     if (!std::isfinite(near) || !(near > 0)) invalid("near must be a finite view depth > 0, got " + number(near));
     if (!std::isfinite(far) || !(far > near))
         invalid("far must be finite and greater than near (" + number(near) + "), got " + number(far));
-    if (projection == Projection::Perspective) {
+    if (intrinsics) {
+        const Intrinsics& k = *intrinsics;
+        if (projection != Projection::Perspective) invalid("intrinsics need a perspective camera");
+        if (!std::isfinite(k.fx) || !(k.fx > 0) || !std::isfinite(k.fy) || !(k.fy > 0))
+            invalid("intrinsics: fx and fy must be finite and > 0, got " + number(k.fx) + "," + number(k.fy));
+        if (!std::isfinite(k.cx) || !std::isfinite(k.cy))
+            invalid("intrinsics: cx and cy must be finite, got " + number(k.cx) + "," + number(k.cy));
+    } else if (projection == Projection::Perspective) {
         if (!std::isfinite(fov_y) || !(fov_y > 0 && fov_y < 180))
             invalid("fov must lie in (0, 180) degrees, got " + number(fov_y));
     } else if (!std::isfinite(ortho_height) || !(ortho_height > 0)) {
@@ -121,6 +190,26 @@ CameraFrame Camera::frame() const
     fr.r = normalize(cross(fr.f, up));
     fr.u = cross(fr.r, fr.f);
     return fr;
+}
+
+Mat4 Camera::pose() const
+{
+    CameraFrame fr = frame();
+    Vec3 cols[4] = {fr.r, fr.u, fr.f * -1.0, eye};
+    Mat4 m;
+    for (int j = 0; j < 4; ++j) {
+        m(0, j) = cols[j].x;
+        m(1, j) = cols[j].y;
+        m(2, j) = cols[j].z;
+    }
+    return m;
+}
+
+Intrinsics Camera::raster_map(int width, int height) const
+{
+    if (intrinsics) return *intrinsics;
+    Canvas cv = canvas(double(width) / height);
+    return {width / (2 * cv.right), height / (2 * cv.top), width / 2.0, height / 2.0};
 }
 
 Canvas Camera::canvas(double aspect) const
@@ -140,13 +229,13 @@ Vec3 Camera::to_camera(Vec3 world) const
 
 Vec3 Camera::camera_to_raster(Vec3 p, int width, int height) const
 {
-    Canvas cv = canvas(double(width) / height);
+    Intrinsics k = raster_map(width, height);
     double sx = p.x, sy = p.y;
     if (projection == Projection::Perspective) {
         sx = p.x / -p.z;
         sy = p.y / -p.z;
     }
-    return {(sx / cv.right + 1) / 2 * width, (1 - sy / cv.top) / 2 * height, -p.z};
+    return {k.cx + k.fx * sx, k.cy - k.fy * sy, -p.z};
 }
 
 Vec3 Camera::to_raster(Vec3 world, int width, int height) const
@@ -157,9 +246,9 @@ Vec3 Camera::to_raster(Vec3 world, int width, int height) const
 Ray Camera::primary_ray(double x, double y, int width, int height) const
 {
     CameraFrame fr = frame();
-    Canvas cv = canvas(double(width) / height);
-    double sx = (2 * x / width - 1) * cv.right;
-    double sy = (1 - 2 * y / height) * cv.top;
+    Intrinsics k = raster_map(width, height);
+    double sx = (x - k.cx) / k.fx;
+    double sy = (k.cy - y) / k.fy;
     if (projection == Projection::Orthographic) return {eye + fr.r * sx + fr.u * sy, fr.f};
     return {eye, fr.r * sx + fr.u * sy + fr.f};
 }
@@ -178,18 +267,24 @@ Mat4 Camera::view_matrix() const
     return m;
 }
 
-Mat4 Camera::projection_matrix(double aspect) const
+Mat4 Camera::projection_matrix(int width, int height) const
 {
-    Canvas cv = canvas(aspect);
+    // ndc.x = 2 x / width - 1 and ndc.y = 1 - 2 y / height of the raster position (x, y).
+    Intrinsics k = raster_map(width, height);
+    double ox = 2 * k.cx / width - 1, oy = 1 - 2 * k.cy / height;
     Mat4 m;
-    m(0, 0) = 1 / cv.right;
-    m(1, 1) = 1 / cv.top;
+    m(0, 0) = 2 * k.fx / width;
+    m(1, 1) = 2 * k.fy / height;
     if (projection == Projection::Perspective) {
+        m(0, 2) = -ox; // times w = -z
+        m(1, 2) = -oy;
         m(2, 2) = -(far + near) / (far - near);
         m(2, 3) = -2 * far * near / (far - near);
         m(3, 2) = -1;
         m(3, 3) = 0;
     } else {
+        m(0, 3) = ox;
+        m(1, 3) = oy;
         m(2, 2) = -2 / (far - near);
         m(2, 3) = -(far + near) / (far - near);
     }
@@ -199,7 +294,10 @@ Mat4 Camera::projection_matrix(double aspect) const
 std::string Camera::to_flags() const
 {
     std::string s = "--eye " + vec(eye) + " --target " + vec(target) + " --up " + vec(up);
-    if (projection == Projection::Perspective) s += " --fov " + number(fov_y);
+    if (intrinsics)
+        s += " --intrinsics " + number(intrinsics->fx) + "," + number(intrinsics->fy) + "," + number(intrinsics->cx) +
+             "," + number(intrinsics->cy);
+    else if (projection == Projection::Perspective) s += " --fov " + number(fov_y);
     else s += " --ortho " + number(ortho_height);
     return s + " --near " + number(near) + " --far " + number(far);
 }

@@ -239,16 +239,35 @@ private:
     Camera camera(const Json& j) const
     {
         if (!j.is_object()) bad("camera", "expected an object");
-        static const char* fields[] = {"eye", "target", "up", "fov", "ortho", "near", "far"};
+        static const char* fields[] = {"eye", "target", "up", "fov", "ortho", "near", "far", "intrinsics", "pose"};
         for (auto it = j.begin(); it != j.end(); ++it)
             if (std::none_of(std::begin(fields), std::end(fields), [&](const char* f) { return it.key() == f; }))
                 bad("camera." + it.key(), "unknown field");
         Camera c;
-        if (!j.contains("eye")) bad("camera.eye", "missing");
-        if (!j.contains("target")) bad("camera.target", "missing");
-        c.eye = vec3(j["eye"], "camera.eye");
-        c.target = vec3(j["target"], "camera.target");
-        if (j.contains("up")) c.up = vec3(j["up"], "camera.up");
+        if (j.contains("pose")) {
+            for (const char* f : {"eye", "target", "up"})
+                if (j.contains(f)) bad(std::string("camera.") + f, "give either pose or eye, target and up");
+            std::vector<double> v = numbers(j["pose"], 16, "camera.pose");
+            Mat4 m;
+            std::copy(v.begin(), v.end(), m.m.begin());
+            try {
+                c = Camera::from_pose(m);
+            } catch (const Error& e) {
+                bad("camera.pose", e.what());
+            }
+        } else {
+            if (!j.contains("eye")) bad("camera.eye", "missing");
+            if (!j.contains("target")) bad("camera.target", "missing");
+            c.eye = vec3(j["eye"], "camera.eye");
+            c.target = vec3(j["target"], "camera.target");
+            if (j.contains("up")) c.up = vec3(j["up"], "camera.up");
+        }
+        if (j.contains("intrinsics") && (j.contains("fov") || j.contains("ortho")))
+            bad("camera.intrinsics", "replaces fov and ortho: give one of them");
+        if (j.contains("intrinsics")) {
+            std::vector<double> k = numbers(j["intrinsics"], 4, "camera.intrinsics");
+            c.intrinsics = Intrinsics{k[0], k[1], k[2], k[3]};
+        }
         if (j.contains("fov") && j.contains("ortho")) bad("camera", "give either fov or ortho, not both");
         if (j.contains("fov")) c.fov_y = number(j["fov"], "camera.fov");
         if (j.contains("ortho")) {

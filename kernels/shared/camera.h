@@ -1,7 +1,10 @@
 /* The projection of CONVENTIONS.md, in float32, shared by the raster kernels, the ray kernels and
    the host (which tests it against the double-precision clvis::Camera). Camera space is
    (r, u, -f): the camera looks down -z; raster space has its origin at the top-left corner, y
-   down, and pixel (i, j) is sampled at (i + 0.5, j + 0.5). */
+   down, and pixel (i, j) is sampled at (i + 0.5, j + 0.5). Screen space maps to raster space
+   through intrinsics (x = cx + fx s.x, y = cy - fy s.y): a field of view or an orthographic
+   height is the case cx = width / 2, cy = height / 2 (CONVENTIONS.md "Cameras from
+   intrinsics"). */
 #ifndef CLVIS_SHARED_CAMERA_H
 #define CLVIS_SHARED_CAMERA_H
 
@@ -13,12 +16,14 @@ typedef struct clvis_camera_gpu {
     float r_x, r_y, r_z;       /* right, unit */
     float far_d;               /* view depth, > near_d */
     float u_x, u_y, u_z;       /* up, unit */
-    float right;               /* canvas half width: at unit distance (perspective), world units (ortho) */
+    float fx;                  /* px per screen unit in x: per unit at unit distance (perspective),
+                                  per world unit (ortho) */
     float f_x, f_y, f_z;       /* forward (camera space -z), unit */
-    float top;                 /* canvas half height, same unit as right */
+    float fy;                  /* px per screen unit in y, same unit as fx */
+    float cx, cy;              /* raster position of the optical axis, px */
     clvis_i32 width, height;   /* pixels */
     clvis_i32 ortho;           /* 1: orthographic, 0: perspective */
-    clvis_i32 pad;
+    clvis_i32 pad[3];
 } clvis_camera_gpu;
 
 /* World -> camera space: x right, y up, z backwards (visible points have z < 0). */
@@ -46,12 +51,12 @@ static inline clvis_vec2 clvis_screen_from_camera(clvis_camera_gpu cam, clvis_ve
     return s;
 }
 
-/* Screen -> raster: through NDC = (s.x / right, s.y / top). */
+/* Screen -> raster: x = cx + fx s.x, y = cy - fy s.y (y down). */
 static inline clvis_vec2 clvis_raster_from_screen(clvis_camera_gpu cam, clvis_vec2 s)
 {
     clvis_vec2 r;
-    r.x = (s.x / cam.right + 1.0f) * 0.5f * (float)cam.width;
-    r.y = (1.0f - s.y / cam.top) * 0.5f * (float)cam.height;
+    r.x = cam.cx + cam.fx * s.x;
+    r.y = cam.cy - cam.fy * s.y;
     return r;
 }
 
@@ -59,10 +64,17 @@ static inline clvis_vec2 clvis_raster_from_screen(clvis_camera_gpu cam, clvis_ve
 static inline clvis_vec2 clvis_screen_from_raster(clvis_camera_gpu cam, float rx, float ry)
 {
     clvis_vec2 s;
-    s.x = (2.0f * rx / (float)cam.width - 1.0f) * cam.right;
-    s.y = (1.0f - 2.0f * ry / (float)cam.height) * cam.top;
+    s.x = (rx - cam.cx) / cam.fx;
+    s.y = (cam.cy - ry) / cam.fy;
     return s;
 }
+
+/* The image's edges in screen units: left, right, bottom and top (the view window, not
+   necessarily centred on the optical axis). */
+static inline float clvis_window_left(clvis_camera_gpu cam) { return -cam.cx / cam.fx; }
+static inline float clvis_window_right(clvis_camera_gpu cam) { return ((float)cam.width - cam.cx) / cam.fx; }
+static inline float clvis_window_bottom(clvis_camera_gpu cam) { return (cam.cy - (float)cam.height) / cam.fy; }
+static inline float clvis_window_top(clvis_camera_gpu cam) { return cam.cy / cam.fy; }
 
 /* The primary ray through raster position (rx, ry). Its direction is not normalised: the ray
    parameter t of a hit equals its view depth (CONVENTIONS.md "Primary rays"). */

@@ -43,24 +43,31 @@ typedef struct clvis_raster_tri {
     clvis_i32 pad;
 } clvis_raster_tri;
 
+/* The guard band on the screen (screen units: s.x = x / d, or x itself when orthographic):
+   CLVIS_GUARD_HALF pixels either side of the image centre, which need not be the optical axis. */
+typedef struct { float lo_x, hi_x, lo_y, hi_y; } clvis_guard;
+
+static inline clvis_guard clvis_guard_of(clvis_camera_gpu cam)
+{
+    float mx = (0.5f * (float)cam.width - cam.cx) / cam.fx, gx = CLVIS_GUARD_HALF / cam.fx;
+    float my = (cam.cy - 0.5f * (float)cam.height) / cam.fy, gy = CLVIS_GUARD_HALF / cam.fy;
+    clvis_guard g = {mx - gx, mx + gx, my - gy, my + gy};
+    return g;
+}
+
 /* Signed distance-like value of a camera-space point to clip plane `plane` (>= 0: inside).
-   0: near; 1-4: the guard band's right, left, top and bottom planes. gx, gy: half extents of
-   the guard band on the screen (screen units: s.x = x / d, or x itself when orthographic). */
-static inline float clvis_clip_distance(clvis_clip_vertex p, int plane, float near_d, float gx, float gy, int ortho)
+   0: near; 1-4: the guard band's right, left, top and bottom planes. */
+static inline float clvis_clip_distance(clvis_clip_vertex p, int plane, float near_d, clvis_guard g, int ortho)
 {
     float h = ortho ? 1.0f : p.d;
     switch (plane) {
     case 0: return p.d - near_d;
-    case 1: return gx * h - p.x;
-    case 2: return gx * h + p.x;
-    case 3: return gy * h - p.y;
-    default: return gy * h + p.y;
+    case 1: return g.hi_x * h - p.x;
+    case 2: return p.x - g.lo_x * h;
+    case 3: return g.hi_y * h - p.y;
+    default: return p.y - g.lo_y * h;
     }
 }
-
-/* Half extents of the guard band on the screen (screen units, see clvis_clip_distance). */
-static inline float clvis_guard_x(clvis_camera_gpu cam) { return CLVIS_GUARD_HALF * 2.0f * cam.right / (float)cam.width; }
-static inline float clvis_guard_y(clvis_camera_gpu cam) { return CLVIS_GUARD_HALF * 2.0f * cam.top / (float)cam.height; }
 
 /* Outcode bits of a camera-space point. The first six say which planes of the view volume it
    lies outside (a triangle whose three vertices share one is invisible: each plane bounds a
@@ -78,17 +85,19 @@ static inline float clvis_guard_y(clvis_camera_gpu cam) { return CLVIS_GUARD_HAL
 static inline clvis_u32 clvis_outcode(clvis_camera_gpu cam, clvis_clip_vertex p)
 {
     float h = cam.ortho ? 1.0f : p.d;
-    float gx = clvis_guard_x(cam), gy = clvis_guard_y(cam);
+    clvis_guard g = clvis_guard_of(cam);
     /* The clip test is the clipper's own (clvis_clip_distance < 0 for some plane), so that a vertex
        kept whole here is kept whole by the clipper of a neighbour that needs clipping. */
-    int clip = (clvis_clip_distance(p, 0, cam.near_d, gx, gy, cam.ortho) < 0.0f) |
-               (clvis_clip_distance(p, 1, cam.near_d, gx, gy, cam.ortho) < 0.0f) |
-               (clvis_clip_distance(p, 2, cam.near_d, gx, gy, cam.ortho) < 0.0f) |
-               (clvis_clip_distance(p, 3, cam.near_d, gx, gy, cam.ortho) < 0.0f) |
-               (clvis_clip_distance(p, 4, cam.near_d, gx, gy, cam.ortho) < 0.0f);
+    int clip = (clvis_clip_distance(p, 0, cam.near_d, g, cam.ortho) < 0.0f) |
+               (clvis_clip_distance(p, 1, cam.near_d, g, cam.ortho) < 0.0f) |
+               (clvis_clip_distance(p, 2, cam.near_d, g, cam.ortho) < 0.0f) |
+               (clvis_clip_distance(p, 3, cam.near_d, g, cam.ortho) < 0.0f) |
+               (clvis_clip_distance(p, 4, cam.near_d, g, cam.ortho) < 0.0f);
+    float right = clvis_window_right(cam), left = clvis_window_left(cam);
+    float top = clvis_window_top(cam), bottom = clvis_window_bottom(cam);
     return (p.d < cam.near_d ? CLVIS_OUT_NEAR : 0u) | (p.d > cam.far_d ? CLVIS_OUT_FAR : 0u) |
-           (p.x > cam.right * h ? CLVIS_OUT_RIGHT : 0u) | (p.x < -cam.right * h ? CLVIS_OUT_LEFT : 0u) |
-           (p.y > cam.top * h ? CLVIS_OUT_TOP : 0u) | (p.y < -cam.top * h ? CLVIS_OUT_BOTTOM : 0u) |
+           (p.x > right * h ? CLVIS_OUT_RIGHT : 0u) | (p.x < left * h ? CLVIS_OUT_LEFT : 0u) |
+           (p.y > top * h ? CLVIS_OUT_TOP : 0u) | (p.y < bottom * h ? CLVIS_OUT_BOTTOM : 0u) |
            (clip ? CLVIS_OUT_CLIP : 0u);
 }
 
