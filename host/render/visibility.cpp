@@ -5,6 +5,8 @@
 
 #include <clvis/visibility.hpp>
 
+#include <algorithm>
+
 namespace clvis {
 
 using detail::throw_cl_error;
@@ -67,24 +69,93 @@ cl_mem VisibilityBuffer::keys() const
     return keys_.get();
 }
 
-std::vector<std::uint64_t> VisibilityBuffer::read_keys() const
+namespace {
+
+/// Runs `fn` on the keys mapped for reading (blocking), then unmaps them. A mapping lets the
+/// split read the device's memory once (PoCL maps in place; a GPU copies to pinned memory), with
+/// no intermediate copy of the keys.
+template <class Fn> void with_mapped_keys(const VisibilityBuffer& v, Fn fn)
 {
-    std::vector<std::uint64_t> keys(std::size_t(width_) * std::size_t(height_));
-    auto& impl = *device_.impl();
+    auto& impl = *v.device().impl();
+    std::size_t bytes = std::size_t(v.width()) * std::size_t(v.height()) * 8;
     try {
         std::lock_guard<std::mutex> lock(impl.mutex);
-        cl::Buffer buffer(this->keys(), true);
-        impl.queue.enqueueReadBuffer(buffer, CL_TRUE, 0, keys.size() * 8, keys.data());
+        cl::Buffer buffer(v.keys(), true);
+        void* mapped = impl.queue.enqueueMapBuffer(buffer, CL_TRUE, CL_MAP_READ, 0, bytes);
+        try {
+            fn(static_cast<const std::uint64_t*>(mapped));
+        } catch (...) {
+            impl.queue.enqueueUnmapMemObject(buffer, mapped);
+            impl.queue.finish();
+            throw;
+        }
+        impl.queue.enqueueUnmapMemObject(buffer, mapped);
+        impl.queue.finish();
     } catch (const cl::Error& e) {
         throw_cl_error(e, "reading a visibility buffer back");
     }
+}
+
+} // namespace
+
+void VisibilityBuffer::read_keys(std::vector<std::uint64_t>& keys) const
+{
+    keys.resize(std::size_t(width_) * std::size_t(height_));
+    with_mapped_keys(*this, [&](const std::uint64_t* k) { std::copy(k, k + keys.size(), keys.data()); });
+}
+
+std::vector<std::uint64_t> VisibilityBuffer::read_keys() const
+{
+    std::vector<std::uint64_t> keys;
+    read_keys(keys);
     return keys;
+}
+
+void VisibilityBuffer::read(std::uint32_t* ids, float* depth) const
+{
+    std::size_t n = std::size_t(width_) * std::size_t(height_);
+    with_mapped_keys(*this, [&](const std::uint64_t* k) {
+        if (ids && depth) {
+            for (std::size_t i = 0; i < n; ++i) {
+                ids[i] = clvis_key_id(k[i]);
+                depth[i] = clvis_key_depth(k[i]);
+            }
+        } else if (ids) {
+            for (std::size_t i = 0; i < n; ++i) ids[i] = clvis_key_id(k[i]);
+        } else if (depth) {
+            for (std::size_t i = 0; i < n; ++i) depth[i] = clvis_key_depth(k[i]);
+        }
+    });
+}
+
+void VisibilityBuffer::read(HostVisibility& out) const
+{
+    std::size_t n = std::size_t(width_) * std::size_t(height_);
+    out.width = width_;
+    out.height = height_;
+    out.ids.resize(n);
+    out.depth.resize(n);
+    read(out.ids.data(), out.depth.data());
 }
 
 HostVisibility VisibilityBuffer::read() const
 {
-    auto keys = read_keys();
-    return split_keys(keys.data(), width_, height_);
+    HostVisibility v;
+    read(v);
+    return v;
+}
+
+void VisibilityBuffer::read_ids(std::vector<std::uint32_t>& ids) const
+{
+    ids.resize(std::size_t(width_) * std::size_t(height_));
+    read(ids.data(), nullptr);
+}
+
+std::vector<std::uint32_t> VisibilityBuffer::read_ids() const
+{
+    std::vector<std::uint32_t> ids;
+    read_ids(ids);
+    return ids;
 }
 
 } // namespace clvis

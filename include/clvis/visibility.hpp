@@ -36,6 +36,15 @@ public:
     /// Blocking read, split into ids and depths.
     HostVisibility read() const;
 
+    // Reads into storage the caller owns and reuses: a vector keeps its capacity (no allocation
+    // once it has held width() * height() elements), a pointer must address that many. Each is
+    // one mapping of the buffer and one pass over it, about the cost of clEnqueueReadBuffer.
+    void read(HostVisibility& out) const;
+    void read(std::uint32_t* ids, float* depth) const; ///< either may be null: not written
+    void read_ids(std::vector<std::uint32_t>& ids) const;
+    std::vector<std::uint32_t> read_ids() const;
+    void read_keys(std::vector<std::uint64_t>& keys) const;
+
 private:
     Device device_;
     std::shared_ptr<struct _cl_mem> keys_;
