@@ -266,13 +266,12 @@ static void packet_test_leaf(const packet* p, __global const clvis_bvh_tri* tris
     *cull = fmin((lanes_f)(cam.far_d), as_float16(*best_t)) * CLVIS_IZE_SCALE;
 }
 
-/* Stack entries name a child slot, (4-wide node << 2) | slot, so that a popped child is tested
-   again against the hits found since it was pushed. `faces` is the cull mode (CLVIS_CULL_*). */
-__kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh4_node* nodes, uint node_count,
-                        __global const clvis_bvh_tri* tris, int faces, __global ulong* keys)
+/* Traces the packet of pixels from (x0, y0) and writes their keys; `faces` is the cull mode
+   (CLVIS_CULL_*). Stack entries name a child slot, (4-wide node << 2) | slot, so that a popped
+   child is tested again against the hits found since it was pushed. */
+static void trace_packet(clvis_camera_gpu cam, int x0, int y0, __global const clvis_bvh4_node* nodes, uint node_count,
+                         __global const clvis_bvh_tri* tris, int faces, __global ulong* keys)
 {
-    int x0 = (int)get_global_id(0) * CLVIS_PACKET_W, y0 = (int)get_global_id(1) * CLVIS_PACKET_H;
-    if (x0 >= cam.width || y0 >= cam.height) return; /* the launch is rounded up to whole tiles */
     packet p;
     make_packet(cam, x0, y0, &p);
     lanes_u best_t = (lanes_u)(clvis_float_bits(CLVIS_INFINITY)), best_id = (lanes_u)(CLVIS_BACKGROUND_ID);
@@ -334,4 +333,25 @@ __kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh4_node* no
         if (x < cam.width && y < cam.height)
             keys[(size_t)y * (size_t)cam.width + (size_t)x] = ((ulong)t_bits[l] << 32) | ids[l];
     }
+}
+
+__kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh4_node* nodes, uint node_count,
+                        __global const clvis_bvh_tri* tris, int faces, __global ulong* keys)
+{
+    int x0 = (int)get_global_id(0) * CLVIS_PACKET_W, y0 = (int)get_global_id(1) * CLVIS_PACKET_H;
+    if (x0 >= cam.width || y0 >= cam.height) return; /* the launch is rounded up to whole tiles */
+    trace_packet(cam, x0, y0, nodes, node_count, tris, faces, keys);
+}
+
+/* Many views in one launch: the third dimension is the view, whose keys start `stride` keys after
+   the previous view's. Each view gets the bits ray_trace gives it alone (the same function). */
+__kernel void ray_trace_views(__global const clvis_camera_gpu* cams, __global const clvis_bvh4_node* nodes,
+                              uint node_count, __global const clvis_bvh_tri* tris, int faces, __global ulong* keys,
+                              ulong stride)
+{
+    size_t view = get_global_id(2);
+    clvis_camera_gpu cam = cams[view];
+    int x0 = (int)get_global_id(0) * CLVIS_PACKET_W, y0 = (int)get_global_id(1) * CLVIS_PACKET_H;
+    if (x0 >= cam.width || y0 >= cam.height) return;
+    trace_packet(cam, x0, y0, nodes, node_count, tris, faces, keys + view * stride);
 }

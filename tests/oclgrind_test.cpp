@@ -41,6 +41,13 @@ std::vector<Case> cases()
         out.push_back(std::move(c));
     }
     {
+        Case c{"sphere, intrinsics off-centre", {}, {}, 40, 30};
+        c.scene.add_mesh(make_uv_sphere(240));
+        c.camera = Camera::framing(c.scene.bounds());
+        c.camera.intrinsics = Intrinsics{40, 36, 12.5, 20};
+        out.push_back(std::move(c));
+    }
+    {
         // Near and far clipping, behind the eye, a triangle far larger than the screen, a
         // degenerate one, coincident ones (tie to the lower id).
         Case c{"clipping and ties", {}, front, 48, 32};
@@ -102,6 +109,15 @@ TEST_CASE("every kernel runs clean on Oclgrind and matches PoCL bit for bit", "[
         o.mode = mode;
         CHECK(shade(r, vis, c.camera, o).rgba.size() == std::size_t(c.width) * c.height * 4);
     }
+    // So do the attributes and the visible set, which read nothing else.
+    AttributeRequest all;
+    all.barycentrics = all.position = all.normal = all.smooth_normal = true;
+    AttributeBuffers attrs = resolve(r, vis, c.camera, all);
+    CHECK(attrs.read(Attribute::SmoothNormal).size() == std::size_t(c.width) * c.height * 3);
+    VisibleSet set(r.device(), std::uint32_t(c.scene.triangle_count()));
+    set.mark(vis);
+    set.mark(vis);
+    CHECK(!set.read_ids().empty());
 }
 
 /// Answers of the three queries for `rays` (through the BVH, or brute force).

@@ -6,6 +6,7 @@
 #include "scene/scene_parsers.hpp"
 
 #include <clvis/clvis.hpp>
+#include <clvis/views_file.hpp>
 
 #include <cstdint>
 #include <cstdio>
@@ -480,6 +481,37 @@ TEST_CASE("a JSON scene file gives meshes with transforms, a camera and an image
     CHECK(q.camera->frame().f.x == -1);
     CHECK(q.camera->frame().r.z == -1);
     CHECK(q.camera->near == 0.5);
+}
+
+TEST_CASE("a views file gives cameras of one size; {view} names are zero-padded", "[io]")
+{
+    fs::create_directories(temp_dir() / "scene");
+    std::string path = write_file("scene/views.json", R"({"width": 64, "height": 48, "views": [
+        {"eye": [0, 0, 5], "target": [0, 0, 0], "fov": 30},
+        {"pose": [1,0,0,0, 0,1,0,0, 0,0,1,7, 0,0,0,1], "intrinsics": [50, 50, 32, 24], "near": 1, "far": 20}]})");
+    ViewsFile f = load_views_file(path);
+    CHECK(f.width == 64);
+    CHECK(f.height == 48);
+    REQUIRE(f.views.size() == 2);
+    CHECK(f.views[0].fov_y == 30);
+    CHECK(f.views[1].eye.z == 7);
+    REQUIRE(f.views[1].intrinsics.has_value());
+    CHECK(f.views[1].intrinsics->fx == 50);
+    std::string bad = write_file("scene/bad-views.json", R"({"width": 64, "height": 48, "views": [
+        {"eye": [0, 0, 5], "target": [0, 0, 0]}, {"target": [0, 0, 0]}]})");
+    std::string msg;
+    try {
+        load_views_file(bad);
+    } catch (const Error& e) {
+        msg = e.what();
+    }
+    CHECK(msg == bad + ": views[1].eye: missing");
+    std::string none = write_file("scene/no-views.json", R"({"width": 64, "height": 48, "views": []})");
+    CHECK_THROWS_AS(load_views_file(none), Error);
+    CHECK(view_file_name("out/ids-{view}.tif", 7, 63) == "out/ids-07.tif");
+    CHECK(view_file_name("{view}/{view}.exr", 3, 9) == "3/3.exr");
+    CHECK(view_file_name("ids.tif", 3, 9) == "ids.tif");
+    CHECK(view_file_name("v{view}", 120, 1000) == "v0120");
 }
 
 TEST_CASE("bad scene files name the file and the JSON path of the bad field", "[io]")

@@ -6,11 +6,13 @@
 #include "bench_stats.hpp"
 
 #include <clvis/clvis.hpp>
+#include <clvis/views_file.hpp>
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cstdio>
+#include <functional>
 #include <iostream>
 
 namespace clvis::cli {
@@ -23,6 +25,9 @@ struct RenderArgs {
     DeviceOptions device;
     std::string path = "raster";
     std::string ids, depth, image, shade = "lambert", cull = "none";
+    std::string bary, normals, position; ///< attributes resolved from the buffer (EXR)
+    std::string visible;                 ///< the visible set: ids, one per line, ascending
+    std::string views;                   ///< a views file: many cameras, one batch
     int repeat = 0;
     int ao = 0; ///< rays per pixel of the ambient-occlusion image; 0: a shaded image
     int tile = 0;
@@ -76,6 +81,55 @@ Image ao_image(Renderer& renderer, const VisibilityBuffer& vis, const Camera& ca
 }
 #endif
 
+/// Names an output file for one path's results.
+std::function<std::string(const std::string&)> with_suffix_of(const std::string& name, bool several)
+{
+    return [name, several](const std::string& file) { return with_suffix(file, name, several); };
+}
+
+/// --bary, --normals, --position: resolved on the device only when asked, then written as EXR.
+void write_attributes(Renderer& renderer, const VisibilityBuffer& vis, const Camera& camera, const RenderArgs& a,
+                      const std::function<std::string(const std::string&)>& file_name)
+{
+    AttributeRequest request;
+    request.barycentrics = !a.bary.empty();
+    request.smooth_normal = !a.normals.empty();
+    request.position = !a.position.empty();
+    if (!request.any()) return;
+#if CLVIS_WITH_IMAGE_IO
+    AttributeBuffers attrs = resolve(renderer, vis, camera, request);
+    std::vector<float> pixels;
+    const struct {
+        const std::string& file;
+        Attribute attribute;
+        std::vector<std::string> channels;
+    } outputs[] = {{a.bary, Attribute::Barycentrics, {"u", "v"}},
+                   {a.normals, Attribute::SmoothNormal, {"x", "y", "z"}},
+                   {a.position, Attribute::Position, {"x", "y", "z"}}};
+    for (const auto& o : outputs) {
+        if (o.file.empty()) continue;
+        attrs.read(o.attribute, pixels);
+        write_float_channels(file_name(o.file), vis.width(), vis.height(), o.channels, pixels);
+    }
+#else
+    (void)renderer, (void)vis, (void)camera, (void)file_name;
+    no_image_io(!a.bary.empty() ? "--bary" : !a.normals.empty() ? "--normals" : "--position");
+#endif
+}
+
+/// --visible: the visible set, compacted on the device, one id per line in ascending order.
+void write_visible(Renderer& renderer, const VisibilityBuffer& vis, const std::string& file, std::uint32_t triangles)
+{
+    if (file.empty()) return;
+    VisibleSet set(renderer.device(), triangles);
+    set.mark(vis);
+    std::vector<std::uint32_t> ids = set.read_ids();
+    std::FILE* f = std::fopen(file.c_str(), "w");
+    if (!f) throw Error(Error::Kind::Io, file + ": cannot open for writing");
+    for (std::uint32_t id : ids) std::fprintf(f, "%u\n", id);
+    if (std::fclose(f) != 0) throw Error(Error::Kind::Io, file + ": write failed");
+}
+
 struct PathResult {
     Path path;
     std::vector<double> samples;
@@ -85,8 +139,36 @@ struct PathResult {
     HostVisibility vis;
 };
 
-PathResult run_path(Renderer& renderer, const Camera& camera, const RenderArgs& a, Path path, bool several,
-                    bool need_host)
+using NameFn = std::function<std::string(const std::string&)>;
+
+/// Every file one visibility buffer gives: ids, depth, image, attributes and the visible set.
+/// `host` receives the buffer read back when ids or depth are written (or when given non-null
+/// and `need_host`).
+void write_outputs(Renderer& renderer, const VisibilityBuffer& vis, const Camera& camera, const RenderArgs& a,
+                   const NameFn& file_name, std::uint32_t triangles, HostVisibility& host, bool need_host)
+{
+    if (need_host || !a.ids.empty() || !a.depth.empty()) vis.read(host);
+    write_attributes(renderer, vis, camera, a, file_name);
+    write_visible(renderer, vis, a.visible.empty() ? a.visible : file_name(a.visible), triangles);
+#if CLVIS_WITH_IMAGE_IO
+    if (!a.ids.empty()) write_ids(file_name(a.ids), host);
+    if (!a.depth.empty()) write_depth(file_name(a.depth), host);
+    if (!a.image.empty()) {
+        ShadeOptions so;
+        so.mode = a.shade == "depth" ? ShadeMode::Depth : a.shade == "ids" ? ShadeMode::Ids : ShadeMode::Lambert;
+        write_image(file_name(a.image),
+                    a.ao > 0 ? ao_image(renderer, vis, camera, a.ao, a.quiet) : shade(renderer, vis, camera, so));
+    }
+#else
+    if (!a.ids.empty()) no_image_io("--ids");
+    if (!a.depth.empty()) no_image_io("--depth");
+    if (!a.image.empty()) no_image_io("--image");
+#endif
+}
+
+/// Renders one camera (or, with `views`, every view as one batch) `repeat` times after a warm-up.
+PathResult run_path(Renderer& renderer, const std::vector<Camera>& cameras, const RenderArgs& a, int width,
+                    int height, Path path, bool several, bool need_host, std::uint32_t triangles)
 {
     PathResult r;
     r.path = path;
@@ -95,12 +177,19 @@ PathResult run_path(Renderer& renderer, const Camera& camera, const RenderArgs& 
         r.bvh = renderer.bvh_stats();
         r.build_ms = r.bvh.build_ms;
     }
-    VisibilityBuffer vis(renderer.device(), a.camera.width, a.camera.height);
-    int frames = std::max(a.repeat, 1);
-    if (a.repeat > 0) renderer.render(camera, path, vis); // warm-up: first launches compile
+    bool batch = !a.views.empty();
+    VisibilityBatch views;
+    VisibilityBuffer vis;
+    if (batch) views = VisibilityBatch(renderer.device(), int(cameras.size()), width, height);
+    else vis = VisibilityBuffer(renderer.device(), width, height);
+    auto frame = [&] {
+        if (batch) render_views(renderer, cameras, path, views);
+        else renderer.render(cameras[0], path, vis);
+    };
+    if (a.repeat > 0) frame(); // warm-up: first launches compile
     double best = 1e300;
-    for (int i = 0; i < frames; ++i) {
-        renderer.render(camera, path, vis);
+    for (int i = 0; i < std::max(a.repeat, 1); ++i) {
+        frame();
         const FrameTiming& t = renderer.last_frame();
         r.samples.push_back(t.frame_ms);
         if (t.frame_ms < best) {
@@ -109,21 +198,16 @@ PathResult run_path(Renderer& renderer, const Camera& camera, const RenderArgs& 
         }
     }
     std::string name = to_string(path);
-    if (need_host || !a.ids.empty() || !a.depth.empty()) r.vis = vis.read();
-#if CLVIS_WITH_IMAGE_IO
-    if (!a.ids.empty()) write_ids(with_suffix(a.ids, name, several), r.vis);
-    if (!a.depth.empty()) write_depth(with_suffix(a.depth, name, several), r.vis);
-    if (!a.image.empty()) {
-        ShadeOptions so;
-        so.mode = a.shade == "depth" ? ShadeMode::Depth : a.shade == "ids" ? ShadeMode::Ids : ShadeMode::Lambert;
-        write_image(with_suffix(a.image, name, several),
-                    a.ao > 0 ? ao_image(renderer, vis, camera, a.ao, a.quiet) : shade(renderer, vis, camera, so));
+    if (!batch) {
+        write_outputs(renderer, vis, cameras[0], a, with_suffix_of(name, several), triangles, r.vis, need_host);
+        return r;
     }
-#else
-    if (!a.ids.empty()) no_image_io("--ids");
-    if (!a.depth.empty()) no_image_io("--depth");
-    if (!a.image.empty()) no_image_io("--image");
-#endif
+    HostVisibility host;
+    int last = views.views() - 1;
+    for (int v = 0; v <= last; ++v)
+        write_outputs(renderer, views.view(v), cameras[std::size_t(v)], a,
+                      [&](const std::string& f) { return view_file_name(with_suffix(f, name, several), v, last); },
+                      triangles, host, false);
     return r;
 }
 
@@ -237,11 +321,21 @@ void render_command(const RenderArgs& a)
         cam_opts.width = file.width;
         cam_opts.height = file.height;
     }
-    Camera camera = cam_opts.resolve(file.scene, file.camera);
+    std::vector<Camera> cameras;
+    if (!a.views.empty()) {
+        ViewsFile vf = load_views_file(a.views);
+        cam_opts.width = vf.width;
+        cam_opts.height = vf.height;
+        cameras = vf.views;
+    }
+    Camera camera = cameras.empty() ? cam_opts.resolve(file.scene, file.camera) : cameras[0];
+    if (cameras.empty()) cameras.push_back(camera);
     if (file.scene.empty()) throw Error(Error::Kind::InvalidArgument, "the scene holds no triangles");
     if (a.ao > 0 && a.image.empty()) throw Error(Error::Kind::InvalidArgument, "--ao: needs --image FILE to write");
 
     std::vector<Path> paths;
+    if (a.path == "all" && !a.views.empty())
+        throw Error(Error::Kind::InvalidArgument, "--views: renders one path (--path raster, ray or brute), not all");
     if (a.path == "all") paths = {Path::Raster, Path::Ray};
     else paths = {path_from_string(a.path)};
     bool several = paths.size() > 1;
@@ -253,12 +347,13 @@ void render_command(const RenderArgs& a)
     say("clvis: " + std::to_string(file.scene.triangle_count()) + " triangles from " +
         std::to_string(a.scene.files.size()) + " file(s) in " + std::to_string(int(load_ms + 0.5)) + " ms; device " +
         device.info().name);
-    if (cam_opts.framed(file.camera)) say("clvis: framing camera: " + camera.to_flags());
+    if (a.views.empty() && cam_opts.framed(file.camera)) say("clvis: framing camera: " + camera.to_flags());
     Renderer renderer(device, file.scene, render_options(a));
 
     std::vector<PathResult> results;
     for (Path p : paths) {
-        results.push_back(run_path(renderer, camera, a, p, several, several));
+        results.push_back(run_path(renderer, cameras, a, cam_opts.width, cam_opts.height, p, several, several,
+                                   std::uint32_t(file.scene.triangle_count())));
         say(path_line(results.back(), a.repeat));
     }
     nlohmann::json compare_json;
@@ -285,6 +380,13 @@ void add_render_command(CLI::App& app)
         ->check(CLI::IsMember({"raster", "ray", "brute", "all"}));
     cmd->add_option("--ids", args->ids, "write the id buffer (.tif, .tiff, .exr; uint32, background 0xFFFFFFFF)");
     cmd->add_option("--depth", args->depth, "write the view-depth buffer (.exr; float, background +inf)");
+    cmd->add_option("--bary", args->bary, "write barycentrics u, v of the visible triangles (.exr; background 0, 0)");
+    cmd->add_option("--normals", args->normals,
+                    "write unit normals x, y, z (.exr; smooth where the mesh has normals; background NaN)");
+    cmd->add_option("--position", args->position, "write world positions x, y, z (.exr; background NaN)");
+    cmd->add_option("--views", args->views,
+                    "render every camera of a views file (JSON) in one batch; {view} in output names is the view");
+    cmd->add_option("--visible", args->visible, "write the visible triangle ids, one per line, ascending");
     cmd->add_option("--image", args->image, "write a shaded colour image (.png, .exr, ...)");
     cmd->add_option("--shade", args->shade, "colour image: lambert, depth or ids")
         ->check(CLI::IsMember({"lambert", "depth", "ids"}));

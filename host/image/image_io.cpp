@@ -21,14 +21,14 @@ namespace {
     throw Error(Error::Kind::Io, path + ": " + what);
 }
 
-void write_channel(const std::string& path, int width, int height, const char* channel, OIIO::TypeDesc type,
-                   const void* pixels)
+void write_channels(const std::string& path, int width, int height, const std::vector<std::string>& channels,
+                    OIIO::TypeDesc type, const void* pixels)
 {
     if (width <= 0 || height <= 0) io_error(path, "nothing to write (empty buffer)");
     auto out = OIIO::ImageOutput::create(path);
     if (!out) io_error(path, "cannot write this format: " + OIIO::geterror());
-    OIIO::ImageSpec spec(width, height, 1, type);
-    spec.channelnames = {channel};
+    OIIO::ImageSpec spec(width, height, int(channels.size()), type);
+    spec.channelnames = channels;
     if (type == OIIO::TypeDesc::UINT32 || type == OIIO::TypeDesc::FLOAT) spec.attribute("compression", "zip");
     if (!out->open(path, spec)) io_error(path, "cannot open for writing: " + out->geterror());
     if (!out->write_image(type, pixels)) io_error(path, "write failed: " + out->geterror());
@@ -63,7 +63,7 @@ void write_ids(const std::string& path, const HostVisibility& vis)
         io_error(path, "id buffers are written as .tif, .tiff or .exr");
     if (vis.ids.size() != std::size_t(vis.width) * std::size_t(vis.height))
         io_error(path, "the id array does not match the image size");
-    write_channel(path, vis.width, vis.height, "id", OIIO::TypeDesc::UINT32, vis.ids.data());
+    write_channels(path, vis.width, vis.height, {"id"}, OIIO::TypeDesc::UINT32, vis.ids.data());
 }
 
 void write_depth(const std::string& path, const HostVisibility& vis)
@@ -71,7 +71,33 @@ void write_depth(const std::string& path, const HostVisibility& vis)
     if (detail::lower_extension(path) != ".exr") io_error(path, "depth buffers are written as .exr");
     if (vis.depth.size() != std::size_t(vis.width) * std::size_t(vis.height))
         io_error(path, "the depth array does not match the image size");
-    write_channel(path, vis.width, vis.height, "Z", OIIO::TypeDesc::FLOAT, vis.depth.data());
+    write_channels(path, vis.width, vis.height, {"Z"}, OIIO::TypeDesc::FLOAT, vis.depth.data());
+}
+
+void write_float_channels(const std::string& path, int width, int height, const std::vector<std::string>& channels,
+                          const std::vector<float>& pixels)
+{
+    if (detail::lower_extension(path) != ".exr") io_error(path, "float channels are written as .exr");
+    if (channels.empty() || pixels.size() != std::size_t(width) * std::size_t(height) * channels.size())
+        io_error(path, "the array does not match the image size and channels");
+    write_channels(path, width, height, channels, OIIO::TypeDesc::FLOAT, pixels.data());
+}
+
+std::vector<float> read_float_channels(const std::string& path, int* width, int* height,
+                                       std::vector<std::string>* channels)
+{
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) io_error(path, std::string("cannot read: ") + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.depth > 1) io_error(path, "not a 2D image");
+    std::vector<float> pixels(std::size_t(spec.width) * std::size_t(spec.height) * std::size_t(spec.nchannels));
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data()))
+        io_error(path, "read failed: " + in->geterror());
+    *width = spec.width;
+    *height = spec.height;
+    if (channels) *channels = spec.channelnames;
+    in->close();
+    return pixels;
 }
 
 HostVisibility read_ids(const std::string& path)

@@ -39,8 +39,8 @@ double ms_since(std::chrono::steady_clock::time_point t0)
 struct RayPipeline::Impl {
     Device::Impl& device;
     RenderOptions options;
-    cl::Kernel trace, brute;
-    cl::NDRange trace_group, brute_group; ///< work-items per work-group
+    cl::Kernel trace, trace_views, brute;
+    cl::NDRange trace_group, views_group, brute_group; ///< work-items per work-group
     int trace_stack = 0;                  ///< CLVIS_RAY_STACK of the built trace kernel
     Bvh bvh;   ///< the binary tree, kept for refits
     Bvh4 wide; ///< what the kernel reads
@@ -69,8 +69,11 @@ struct RayPipeline::Impl {
     {
         int stack = ((3 * wide.depth + 1) / stack_step + 1) * stack_step;
         if (stack == trace_stack) return;
-        trace = cl::Kernel(device.program("ray_trace", "-DCLVIS_RAY_STACK=" + std::to_string(stack)), "ray_trace");
+        cl::Program program = device.program("ray_trace", "-DCLVIS_RAY_STACK=" + std::to_string(stack));
+        trace = cl::Kernel(program, "ray_trace");
+        trace_views = cl::Kernel(program, "ray_trace_views");
         trace_group = pick_group(trace);
+        views_group = pick_group(trace_views);
         trace_stack = stack;
     }
 
@@ -187,6 +190,27 @@ void RayPipeline::render(const DeviceScene& scene, Frame& frame, bool brute)
         cl::NDRange global(round_up(packets_x, g[0]), round_up(packets_y, g[1]));
         frame.queue.enqueueNDRangeKernel(k, cl::NullRange, global, g, nullptr, &done);
     }
+    frame.stages->add("trace", done);
+}
+
+void RayPipeline::render_views(ViewsFrame& frame)
+{
+    Impl& m = *impl_;
+    if (!m.built) throw Error(Error::Kind::InvalidArgument, "the ray path renders before its BVH is built");
+    cl::Kernel& k = m.trace_views;
+    const cl::NDRange& g = m.views_group;
+    k.setArg(0, frame.cameras);
+    k.setArg(1, m.nodes);
+    k.setArg(2, cl_uint(m.wide.nodes.size()));
+    k.setArg(3, m.tris);
+    k.setArg(4, cl_int(cull_mode(m.options.cull)));
+    k.setArg(5, frame.keys);
+    k.setArg(6, cl_ulong(frame.stride));
+    std::size_t packets_x = (std::size_t(frame.width) + packet_w - 1) / packet_w;
+    std::size_t packets_y = (std::size_t(frame.height) + packet_h - 1) / packet_h;
+    cl::NDRange global(round_up(packets_x, g[0]), round_up(packets_y, g[1]), std::size_t(frame.views));
+    cl::Event done;
+    frame.queue.enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(g[0], g[1], 1), nullptr, &done);
     frame.stages->add("trace", done);
 }
 

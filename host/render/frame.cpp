@@ -31,6 +31,15 @@ clvis_camera_gpu make_gpu_camera(const Camera& camera, int width, int height)
 
 static_assert(sizeof(clvis_camera_gpu) == 96, "layout shared with kernels/shared/camera.h");
 
+void DeviceScene::set_args(cl::Kernel& kernel, cl_uint first) const
+{
+    kernel.setArg(first, positions);
+    kernel.setArg(first + 1, indices);
+    kernel.setArg(first + 2, normals);
+    kernel.setArg(first + 3, cl_int(has_normals));
+    kernel.setArg(first + 4, cl_uint(triangle_count));
+}
+
 cl::Kernel make_clear_kernel(Device::Impl& device)
 {
     return cl::Kernel(device.program("visibility_clear"), "visibility_clear");
@@ -48,6 +57,26 @@ void clear_keys(cl::Kernel& clear, Frame& frame)
 }
 
 void StageRecorder::add(const std::string& stage, const cl::Event& event) { events_.emplace_back(stage, event); }
+
+std::vector<StageTiming> StageRecorder::collect_sum()
+{
+    std::vector<StageTiming> out;
+    for (auto& [name, event] : events_) {
+        double ms = 0;
+        try {
+            ms = double(event.getProfilingInfo<CL_PROFILING_COMMAND_END>() -
+                        event.getProfilingInfo<CL_PROFILING_COMMAND_START>()) * 1e-6;
+        } catch (const cl::Error&) {
+            events_.clear(); // a wrapped queue made without profiling
+            return {};
+        }
+        auto it = std::find_if(out.begin(), out.end(), [&](const StageTiming& s) { return s.name == name; });
+        if (it == out.end()) out.push_back({name, ms});
+        else it->ms += ms;
+    }
+    events_.clear();
+    return out;
+}
 
 std::vector<StageTiming> StageRecorder::collect()
 {

@@ -27,6 +27,10 @@ struct DeviceScene {
     bool has_normals = false;
     std::uint32_t triangle_count = 0;
     std::uint32_t vertex_count = 0;
+
+    /// Sets the arguments that kernels reading the scene take in this order from `first`:
+    /// positions, indices, normals, has_normals (int), triangle_count (uint).
+    void set_args(cl::Kernel& kernel, cl_uint first) const;
 };
 
 /// Collects the profiling events of a frame's kernels by stage name.
@@ -36,6 +40,9 @@ public:
     void add(const std::string& stage, const cl::Event& event);
     /// Device time per stage in ms (end of last event - start of first, per stage), then clears.
     std::vector<StageTiming> collect();
+    /// Device time per stage as the sum of its events' durations (a batch's kernels, however
+    /// interleaved), then clears.
+    std::vector<StageTiming> collect_sum();
 
 private:
     std::vector<std::pair<std::string, cl::Event>> events_;
@@ -47,6 +54,16 @@ struct Frame {
     clvis_camera_gpu gpu_camera{};   ///< the same in float32 for the kernels
     cl::Buffer keys;                 ///< width * height keys, row 0 on top
     int width = 0, height = 0;
+    StageRecorder* stages = nullptr;
+};
+
+/// Many views of one size in one buffer: view v's keys start at key v * stride.
+struct ViewsFrame {
+    cl::CommandQueue queue;
+    cl::Buffer cameras; ///< clvis_camera_gpu per view
+    int views = 0, width = 0, height = 0;
+    cl::Buffer keys;
+    std::size_t stride = 0; ///< keys from one view to the next, >= width * height
     StageRecorder* stages = nullptr;
 };
 
@@ -100,6 +117,8 @@ public:
     /// Enqueues the trace of one ray per pixel centre (through the BVH, or against every
     /// triangle when `brute`) writing every key of frame.keys.
     void render(const DeviceScene& scene, Frame& frame, bool brute);
+    /// Enqueues one trace through the BVH for every view of `frame` (ray_trace_views).
+    void render_views(ViewsFrame& frame);
 
     /// The resident BVH as ray_trace.cl reads it, for the ray queries (ray_query.cpp): 4-wide
     /// nodes, leaf triangles, the node count and the 4-wide tree's depth. Valid once built.

@@ -34,11 +34,7 @@ Image shade(Renderer& renderer, const VisibilityBuffer& vis, const Camera& camer
         kernel.setArg(0, cl::Buffer(vis.keys(), true));
         kernel.setArg(1, out);
         kernel.setArg(2, sizeof g, &g);
-        kernel.setArg(3, r.gpu.positions);
-        kernel.setArg(4, r.gpu.indices);
-        kernel.setArg(5, r.gpu.normals);
-        kernel.setArg(6, cl_int(r.gpu.has_normals));
-        kernel.setArg(7, cl_uint(r.gpu.triangle_count));
+        r.gpu.set_args(kernel, 3);
         kernel.setArg(8, cl_int(mode));
         kernel.setArg(9, float(light.x));
         kernel.setArg(10, float(light.y));

@@ -6,6 +6,7 @@
 #include "scene/scene_parsers.hpp"
 
 #include <clvis/scene_io.hpp>
+#include <clvis/views_file.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -143,6 +144,33 @@ public:
         if (root.contains("camera")) out.camera = camera(root["camera"]);
         out.width = side(root, "width");
         out.height = side(root, "height");
+        return out;
+    }
+
+    ViewsFile read_views(std::string_view text)
+    {
+        Json root = parse(text);
+        if (!root.is_object()) fail(path_, "expected a JSON object at the top level");
+        for (auto it = root.begin(); it != root.end(); ++it)
+            if (it.key() != "views" && it.key() != "width" && it.key() != "height") bad(it.key(), "unknown field");
+        ViewsFile out;
+        out.width = side(root, "width");
+        out.height = side(root, "height");
+        if (out.width == 0) bad("width", "missing");
+        if (out.height == 0) bad("height", "missing");
+        if (!root.contains("views") || !root["views"].is_array() || root["views"].empty())
+            bad("views", "expected a non-empty array of cameras");
+        const Json& views = root["views"];
+        for (std::size_t i = 0; i < views.size(); ++i) {
+            try {
+                out.views.push_back(camera(views[i]));
+            } catch (const Error& e) {
+                // camera() names its fields "camera.*": here they are "views[i].*".
+                std::string msg = e.what(), prefix = path_ + ": camera";
+                if (msg.rfind(prefix, 0) != 0) throw;
+                fail(path_, "views[" + std::to_string(i) + "]" + msg.substr(prefix.size()));
+            }
+        }
         return out;
     }
 
@@ -305,7 +333,18 @@ SceneFile parse_scene_file(std::string_view text, const std::string& path,
     return SceneReader(path, load).read(text);
 }
 
+ViewsFile parse_views_file(std::string_view text, const std::string& path)
+{
+    static const std::function<MeshData(const std::string&)> no_meshes;
+    return SceneReader(path, no_meshes).read_views(text);
+}
+
 #else
+
+ViewsFile parse_views_file(std::string_view, const std::string& path)
+{
+    fail(path, "cannot read views files: this build of clvis was made without nlohmann::json");
+}
 
 SceneFile parse_scene_file(std::string_view, const std::string& path, const std::function<MeshData(const std::string&)>&)
 {
@@ -342,6 +381,23 @@ void add_gltf(Scene& scene, GltfScene gltf)
             prototype[item.mesh] = scene.add_prototype(std::move(gltf.meshes[item.mesh]));
         scene.add_instance(prototype[item.mesh], item.transform);
     }
+}
+
+ViewsFile load_views_file(const std::string& path)
+{
+    std::string text = detail::read_file(path);
+    return detail::parse_views_file(text, path);
+}
+
+std::string view_file_name(const std::string& pattern, int view, int last)
+{
+    const std::string key = "{view}";
+    auto at = pattern.find(key);
+    if (at == std::string::npos) return pattern;
+    std::string digits = std::to_string(view);
+    std::size_t width = std::to_string(std::max(last, 0)).size();
+    if (digits.size() < width) digits.insert(0, width - digits.size(), '0');
+    return pattern.substr(0, at) + digits + view_file_name(pattern.substr(at + key.size()), view, last);
 }
 
 Scene load_scene(const std::vector<std::string>& paths)

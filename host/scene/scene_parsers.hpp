@@ -6,6 +6,7 @@
 #include <clvis/error.hpp>
 #include <clvis/scene.hpp>
 #include <clvis/scene_io.hpp>
+#include <clvis/views_file.hpp>
 
 #include <cstddef>
 #include <functional>
@@ -44,6 +45,9 @@ MeshData parse_mesh(std::string_view bytes, const std::string& path);
 /// folder). Without nlohmann::json at build time this throws Error(Io) saying so.
 SceneFile parse_scene_file(std::string_view text, const std::string& path,
                            const std::function<MeshData(const std::string&)>& load);
+
+/// The JSON views file (include/clvis/views_file.hpp), its cameras read as a scene file's.
+ViewsFile parse_views_file(std::string_view text, const std::string& path);
 
 /// The whole content of a regular file; Error(Io) naming the file when it is missing, not a
 /// regular file, or unreadable.

@@ -3,6 +3,8 @@
 
 #include <clvis/config.hpp>
 
+#include <clvis/attributes.hpp>
+#include <clvis/batch.hpp>
 #include <clvis/camera.hpp>
 #include <clvis/device.hpp>
 #include <clvis/error.hpp>
@@ -15,12 +17,14 @@
 #include <clvis/rays.hpp>
 #include <clvis/referee.hpp>
 #include <clvis/render_options.hpp>
+#include <clvis/referee_attributes.hpp>
 #include <clvis/renderer.hpp>
 #include <clvis/scene.hpp>
 #include <clvis/scene_io.hpp>
 #include <clvis/shading.hpp>
 #include <clvis/version.hpp>
 #include <clvis/visibility.hpp>
+#include <clvis/visible_set.hpp>
 #if CLVIS_WITH_IMAGE_IO
 #include <clvis/image_io.hpp>
 #endif

@@ -1,0 +1,52 @@
+// Many views per call: a batch of cameras of one size rendered into one device buffer of keys,
+// with the scene, the BVH and the kernels reused and the batch's fixed costs paid once. The ray
+// path traces every view in one launch; the raster path runs its stages view after view (its
+// host reads the counts of each view's bins), on one queue with one wait. Each view of a batch is
+// bit-identical to the same view rendered alone.
+#pragma once
+
+#include <clvis/camera.hpp>
+#include <clvis/renderer.hpp>
+#include <clvis/visibility.hpp>
+
+#include <CL/cl.h>
+
+#include <memory>
+#include <vector>
+
+namespace clvis {
+
+class VisibilityBatch {
+public:
+    VisibilityBatch() = default;
+    /// `views` visibility buffers of width x height in one allocation. Error(InvalidArgument) for
+    /// sizes <= 0, Error(Limit) past the device's largest allocation.
+    VisibilityBatch(const Device& device, int views, int width, int height);
+
+    int views() const { return int(buffers_.size()); }
+    int width() const { return width_; }
+    int height() const { return height_; }
+    /// All keys on the device: view v's width * height keys start at key v * stride().
+    cl_mem keys() const;
+    /// Keys from one view to the next: width * height rounded up to the device's sub-buffer
+    /// alignment.
+    std::size_t stride() const { return stride_; }
+    /// View v as a VisibilityBuffer (a sub-buffer of keys()): read it, shade it, resolve its
+    /// attributes or mark a visible set with it, on the device or into the caller's storage.
+    const VisibilityBuffer& view(int v) const;
+
+private:
+    Device device_;
+    std::shared_ptr<struct _cl_mem> keys_;
+    std::vector<VisibilityBuffer> buffers_;
+    int width_ = 0, height_ = 0;
+    std::size_t stride_ = 0;
+};
+
+/// Renders `cameras` (all validated first) into `target`, whose view count and size fix the
+/// batch's (Error(InvalidArgument) when the camera count differs). renderer.last_frame() then
+/// times the whole batch: frame_ms from the first enqueue to the end, each stage's kernel times
+/// summed over the views.
+void render_views(Renderer& renderer, const std::vector<Camera>& cameras, Path path, VisibilityBatch& target);
+
+} // namespace clvis

@@ -1,0 +1,64 @@
+// The referee of the attributes resolved from a visibility buffer (CONVENTIONS.md
+// "Barycentrics"): from the scene's float32 vertices in double precision, the point P that (u, v)
+// name on the answered triangle must project to within bary_px_tolerance px of the sample, and
+// its view depth must equal the depth buffer's within the depth tolerance. Independent of the
+// kernels that computed them.
+#pragma once
+
+#include <clvis/camera.hpp>
+#include <clvis/scene.hpp>
+#include <clvis/visibility.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace clvis {
+
+/// Pixels between the projection of P and the sample, at most.
+constexpr double bary_px_tolerance = 0.01;
+/// The depth tolerance: depth_tolerance_rel d, plus the change of depth over
+/// depth_tolerance_px px along the triangle's screen-space depth gradient.
+constexpr double depth_tolerance_rel = 1e-5;
+constexpr double depth_tolerance_px = 1.0 / 65536;
+
+struct BaryVerdict {
+    bool ok = true;
+    double px_error = 0;      ///< distance of P's projection from the sample, px
+    double depth_error = 0;   ///< |view depth of P - the buffer's depth|
+    double depth_allowed = 0; ///< the tolerance it was held to
+    std::string describe(int x, int y) const;
+};
+
+struct BaryReport {
+    std::size_t pixels = 0, covered = 0, errors = 0;
+    double max_px_error = 0;               ///< over covered pixels
+    double max_depth_error_share = 0;      ///< depth_error / depth_allowed, largest
+    std::vector<std::string> first_errors; ///< up to 10
+};
+
+class BarycentricReferee {
+public:
+    /// Copies the scene's world positions; Error(InvalidArgument) for an invalid camera or size.
+    BarycentricReferee(const Scene& scene, const Camera& camera, int width, int height);
+
+    /// Judges (u, v) answered with triangle `id` (or background_id) and the buffer's `depth` at
+    /// pixel (x, y)'s sample at raster (sx, sy) (the pixel's centre by default).
+    BaryVerdict judge(int x, int y, std::uint32_t id, double u, double v, double depth) const;
+    BaryVerdict judge_at(double sx, double sy, std::uint32_t id, double u, double v, double depth) const;
+    /// Judges every pixel: `uv` holds 2 floats per pixel, row 0 on top.
+    BaryReport check(const HostVisibility& vis, const std::vector<float>& uv) const;
+
+    /// View depth of the plane of triangle `id` along the primary ray through raster (sx, sy).
+    double plane_depth(std::uint32_t id, double sx, double sy) const;
+    /// The triangle's vertices in double (from the float32 world positions).
+    void vertices(std::uint32_t id, Vec3 out[3]) const;
+
+private:
+    Camera camera_;
+    int width_, height_;
+    std::vector<float> positions_;
+    std::vector<std::uint32_t> indices_;
+};
+
+} // namespace clvis
