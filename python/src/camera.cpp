@@ -75,8 +75,9 @@ void bind_camera_queries(nb::class_<Camera>& c)
         .def("to_flags", &Camera::to_flags, "The command-line flags that reproduce this camera.")
         .def("view_matrix", [](const Camera& c) { return from_mat4(c.view_matrix()); },
              "(4, 4) float64 world-to-camera matrix (gluLookAt).")
-        .def("projection_matrix", [](const Camera& c, double aspect) { return from_mat4(c.projection_matrix(aspect)); },
-             nb::arg("aspect"), "(4, 4) float64 OpenGL projection matrix for width/height = aspect.")
+        .def("projection_matrix",
+             [](const Camera& c, int width, int height) { return from_mat4(c.projection_matrix(width, height)); },
+             nb::arg("width"), nb::arg("height"), "(4, 4) float64 OpenGL projection matrix for a width x height image.")
         .def(
             "to_raster",
             [](const Camera& c, Vec p, int width, int height) { return from_vec3(c.to_raster(to_vec3(p), width, height)); },
