@@ -85,7 +85,9 @@ static void clip_and_emit(clvis_clip_vertex p0, clvis_clip_vertex p1, clvis_clip
             float da = clvis_clip_distance(a, plane, out.cam.near_d, g, out.cam.ortho);
             float db = clvis_clip_distance(b, plane, out.cam.near_d, g, out.cam.ortho);
             if (da >= 0.0f) next[m++] = a;
-            if ((da >= 0.0f) != (db >= 0.0f)) next[m++] = clvis_clip_cut(a, da, b, db);
+            /* No cut towards a point that is not finite (NaN distance): it is dropped whole. */
+            if (da == da && db == db && (da >= 0.0f) != (db >= 0.0f))
+                next[m++] = clvis_clip_cut(a, da, b, db, plane, out.cam.near_d, g, out.cam.ortho);
         }
         if (m < 3) return;
         for (int k = 0; k < m; ++k) poly[k] = next[k];

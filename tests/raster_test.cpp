@@ -342,14 +342,15 @@ TEST_CASE("a clip cut does not depend on the direction the edge is walked", "[ra
 {
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> u(-50, 50);
-    const clvis_guard guard{-0.6f, 0.7f, -0.4f, 0.3f}; // off-centre, as with a shifted principal point
+    const clvis_guard g = clvis_guard_make(-0.6f, 0.7f, -0.4f, 0.3f); // off-centre, as with a shifted principal point
     for (int i = 0; i < 1000; ++i) {
         clvis_clip_vertex a{u(rng), u(rng), u(rng)}, b{u(rng), u(rng), u(rng)};
         for (int plane = 0; plane < CLVIS_CLIP_PLANES; ++plane) {
-            float da = clvis_clip_distance(a, plane, 1.0f, guard, 0);
-            float db = clvis_clip_distance(b, plane, 1.0f, guard, 0);
+            float da = clvis_clip_distance(a, plane, 1.0f, g, 0);
+            float db = clvis_clip_distance(b, plane, 1.0f, g, 0);
             if ((da >= 0) == (db >= 0)) continue;
-            clvis_clip_vertex p = clvis_clip_cut(a, da, b, db), q = clvis_clip_cut(b, db, a, da);
+            clvis_clip_vertex p = clvis_clip_cut(a, da, b, db, plane, 1.0f, g, 0);
+            clvis_clip_vertex q = clvis_clip_cut(b, db, a, da, plane, 1.0f, g, 0);
             CHECK(std::memcmp(&p, &q, sizeof p) == 0);
         }
     }

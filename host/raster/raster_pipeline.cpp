@@ -11,6 +11,7 @@
 #include <clvis/error.hpp>
 
 #include <algorithm>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,15 @@ namespace clvis::detail {
 static_assert(sizeof(clvis_raster_tri) == 112, "layout shared with kernels/shared/raster.h");
 static_assert(sizeof(clvis_raster_projected) == 16, "layout shared with kernels/shared/raster.h");
 static_assert(sizeof(clvis_camera_gpu) == 96, "layout shared with kernels/shared/camera.h");
+
+// The raster-space limits derived in kernels/shared/raster.h, checked where the kernels get them.
+static_assert(CLVIS_GUARD_MARGIN >= 8, "the 8-pixel spans of raster_fine.cl stay inside the guard band");
+static_assert(((std::int64_t(CLVIS_MAX_IMAGE_SIZE) + CLVIS_GUARD_MARGIN + CLVIS_GUARD_SLACK)
+               << CLVIS_SUBPIXEL_BITS) < (std::int64_t(1) << 31),
+              "int32 16.16 holds every snapped raster coordinate");
+static_assert(std::uint64_t(CLVIS_RASTER_SPAN) * std::uint64_t(CLVIS_RASTER_SPAN) <
+                  (std::uint64_t(1) << (63 - 2 * CLVIS_SUBPIXEL_BITS)),
+              "int64 holds every edge-function value (L^2 2^2F < 2^63)");
 
 namespace {
 
@@ -31,7 +41,7 @@ constexpr std::size_t fine_group_edge = 4;
 /// Work-items of the single work-group of raster_bin_scan, at most.
 constexpr std::size_t scan_group = 256;
 /// First capacities of the growable buffers (elements); they double or jump to what a frame needs.
-constexpr std::size_t first_tri_capacity = std::size_t(1) << 12;
+constexpr std::size_t first_tri_capacity = raster_first_tri_capacity;
 constexpr std::size_t first_entry_capacity = std::size_t(1) << 14;
 
 std::size_t floor_pow2(std::size_t v)

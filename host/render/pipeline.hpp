@@ -90,6 +90,10 @@ inline int cull_mode(Cull cull)
 
 inline std::size_t round_up(std::size_t n, std::size_t multiple) { return (n + multiple - 1) / multiple * multiple; }
 
+/// The raster path's first list of triangles to bin (elements): a frame that lists more grows it
+/// and runs setup again (tests/oclgrind_test.cpp drives that path).
+constexpr std::size_t raster_first_tri_capacity = std::size_t(1) << 12;
+
 class RasterPipeline {
 public:
     RasterPipeline(Device::Impl& device, const RenderOptions& options);

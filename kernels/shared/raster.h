@@ -9,18 +9,31 @@
 #include "shared/visibility.h"
 
 
-/* Sub-pixel precision: raster coordinates are snapped to 1 / 2^16 px. */
+/* The limits of raster space, all derived here from the largest accepted image side S and the
+   fixed-point fraction F (docs/architecture.md "Raster-space limits" walks through them):
+   - Sub-pixel precision: raster coordinates are snapped to 1 / 2^F px, F = 16.
+   - Guard band: geometry farther than M = CLVIS_GUARD_MARGIN px beyond the image's edges is
+     clipped away in camera space, so the band is W/2 + M px from the image centre in x and
+     H/2 + M in y. Clipped vertices then sit as close to the centre as the image's own corners,
+     and float32 gives them the same raster-space error (about max(W, H) 2^-24 px per operation).
+   - Snapped vertices are clamped to CLVIS_GUARD_SLACK px past the band (the clipper's cuts may
+     round past it; non-finite values never reach a float-to-int conversion). Raster coordinates
+     then lie within S + M + slack < 2^(31 - F) px of the origin: int32 16.16 holds them
+     (clvis_raster_projected).
+   - Every point an edge function is evaluated at (two vertices, a pixel centre of the image or of
+     a vector span at most 8 px past its right edge, 8 <= M) lies in the rectangle of sides
+     L = S + 2 (M + slack) px around the image centre; an edge value is the doubled area of a
+     triangle in it, each of its products at most L^2, so |value| <= L^2 2^(2F) < 2^63.
+   host/raster_pipeline.cpp checks these inequalities at compile time. */
 #define CLVIS_SUBPIXEL_BITS 16
 #define CLVIS_SUBPIXEL_ONE ((clvis_i64)1 << CLVIS_SUBPIXEL_BITS) /* one pixel, fixed units */
 #define CLVIS_SUBPIXEL_HALF (CLVIS_SUBPIXEL_ONE >> 1)           /* half a pixel: the sample offset */
-
-/* Guard band: snapped vertices stay within this many pixels of the image centre in x and in y
-   (geometry beyond is clipped away in camera space). With images of at most CLVIS_MAX_IMAGE_SIZE
-   pixels a side, a sample and a vertex are less than 8192 + 8000 < 2^14 px apart, so every
-   difference of fixed coordinates stays below 2^30 and every edge function value (two products
-   of such differences, plus the stepping of raster_fine.cl) below 2^62: int64 holds them. */
-#define CLVIS_GUARD_HALF 8000.0f          /* px from the image centre */
-#define CLVIS_MAX_IMAGE_SIZE 16384        /* px, width and height */
+#define CLVIS_MAX_IMAGE_LOG2 14
+#define CLVIS_MAX_IMAGE_SIZE (1 << CLVIS_MAX_IMAGE_LOG2) /* S = 16384 px, width and height */
+#define CLVIS_GUARD_MARGIN 64                            /* M px beyond each edge of the image */
+#define CLVIS_GUARD_SLACK 64                             /* px past the band where snapping clamps */
+/* L, the side of the square every edge-function point lies in (px). */
+#define CLVIS_RASTER_SPAN (CLVIS_MAX_IMAGE_SIZE + 2 * (CLVIS_GUARD_MARGIN + CLVIS_GUARD_SLACK))
 
 /* Clip planes: near and the guard band's four sides (clvis_clip_distance). */
 #define CLVIS_CLIP_PLANES 5
@@ -43,29 +56,66 @@ typedef struct clvis_raster_tri {
     clvis_i32 pad;
 } clvis_raster_tri;
 
-/* The guard band on the screen (screen units: s.x = x / d, or x itself when orthographic):
-   CLVIS_GUARD_HALF pixels either side of the image centre, which need not be the optical axis. */
-typedef struct { float lo_x, hi_x, lo_y, hi_y; } clvis_guard;
+/* The guard band of a camera and image on the screen (screen units: s.x = x / d, or x itself when
+   orthographic): CLVIS_GUARD_MARGIN pixels beyond each edge of the image, whose centre need not
+   be the optical axis (a shifted principal point). lo/hi: its planes; gx, gy: its half extents;
+   kx = 1 / (2 (1 + max |lo_x|, |hi_x|)), ky likewise, scale clip distances so that they stay
+   finite for every finite camera-space point; khi_x = kx hi_x and so on. */
+typedef struct {
+    float lo_x, hi_x, lo_y, hi_y, gx, gy, kx, ky, klo_x, khi_x, klo_y, khi_y;
+} clvis_guard;
 
-static inline clvis_guard clvis_guard_of(clvis_camera_gpu cam)
+static inline float clvis_guard_absf(float v) { return v < 0.0f ? -v : v; }
+
+/* A guard band from its four planes (screen units). */
+static inline clvis_guard clvis_guard_make(float lo_x, float hi_x, float lo_y, float hi_y)
 {
-    float mx = (0.5f * (float)cam.width - cam.cx) / cam.fx, gx = CLVIS_GUARD_HALF / cam.fx;
-    float my = (cam.cy - 0.5f * (float)cam.height) / cam.fy, gy = CLVIS_GUARD_HALF / cam.fy;
-    clvis_guard g = {mx - gx, mx + gx, my - gy, my + gy};
+    clvis_guard g;
+    float ax = clvis_guard_absf(lo_x) > clvis_guard_absf(hi_x) ? clvis_guard_absf(lo_x) : clvis_guard_absf(hi_x);
+    float ay = clvis_guard_absf(lo_y) > clvis_guard_absf(hi_y) ? clvis_guard_absf(lo_y) : clvis_guard_absf(hi_y);
+    g.lo_x = lo_x; g.hi_x = hi_x; g.lo_y = lo_y; g.hi_y = hi_y;
+    g.gx = 0.5f * hi_x - 0.5f * lo_x;
+    g.gy = 0.5f * hi_y - 0.5f * lo_y;
+    g.kx = 0.5f / (1.0f + ax);
+    g.ky = 0.5f / (1.0f + ay);
+    g.klo_x = g.kx * lo_x; g.khi_x = g.kx * hi_x;
+    g.klo_y = g.ky * lo_y; g.khi_y = g.ky * hi_y;
     return g;
 }
 
-/* Signed distance-like value of a camera-space point to clip plane `plane` (>= 0: inside).
-   0: near; 1-4: the guard band's right, left, top and bottom planes. */
+static inline clvis_guard clvis_guard_of(clvis_camera_gpu cam)
+{
+    float mx = (0.5f * (float)cam.width - cam.cx) / cam.fx;
+    float gx = (0.5f * (float)cam.width + (float)CLVIS_GUARD_MARGIN) / cam.fx;
+    float my = (cam.cy - 0.5f * (float)cam.height) / cam.fy;
+    float gy = (0.5f * (float)cam.height + (float)CLVIS_GUARD_MARGIN) / cam.fy;
+    return clvis_guard_make(mx - gx, mx + gx, my - gy, my + gy);
+}
+
+/* Whether a camera-space point is finite (the camera transform of a finite world point beyond
+   about 3.4e38 from the eye overflows). Bits, not isfinite: the same on every compiler. */
+static inline int clvis_clip_vertex_finite(clvis_clip_vertex p)
+{
+    return (clvis_float_bits(p.x) & 0x7F800000u) != 0x7F800000u &&
+           (clvis_float_bits(p.y) & 0x7F800000u) != 0x7F800000u &&
+           (clvis_float_bits(p.d) & 0x7F800000u) != 0x7F800000u;
+}
+
+/* Signed distance-like value of a camera-space point to clip plane `plane` (>= 0: inside), scaled
+   so that it stays finite, at most FLT_MAX / 2 in magnitude, for every finite point; NaN for a
+   point that is not finite (outside every plane: the clipper drops it and cuts nothing towards
+   it, so its triangle draws only the part its finite points span). 0: near; 1-4: the guard
+   band's right, left, top and bottom planes. */
 static inline float clvis_clip_distance(clvis_clip_vertex p, int plane, float near_d, clvis_guard g, int ortho)
 {
+    if (!clvis_clip_vertex_finite(p)) return clvis_bits_float(0x7FC00000u); /* a quiet NaN */
     float h = ortho ? 1.0f : p.d;
     switch (plane) {
-    case 0: return p.d - near_d;
-    case 1: return g.hi_x * h - p.x;
-    case 2: return p.x - g.lo_x * h;
-    case 3: return g.hi_y * h - p.y;
-    default: return p.y - g.lo_y * h;
+    case 0: return 0.5f * p.d - 0.5f * near_d;
+    case 1: return g.khi_x * h - g.kx * p.x;
+    case 2: return g.kx * p.x - g.klo_x * h;
+    case 3: return g.khi_y * h - g.ky * p.y;
+    default: return g.ky * p.y - g.klo_y * h;
     }
 }
 
@@ -86,13 +136,14 @@ static inline clvis_u32 clvis_outcode(clvis_camera_gpu cam, clvis_clip_vertex p)
 {
     float h = cam.ortho ? 1.0f : p.d;
     clvis_guard g = clvis_guard_of(cam);
-    /* The clip test is the clipper's own (clvis_clip_distance < 0 for some plane), so that a vertex
-       kept whole here is kept whole by the clipper of a neighbour that needs clipping. */
-    int clip = (clvis_clip_distance(p, 0, cam.near_d, g, cam.ortho) < 0.0f) |
-               (clvis_clip_distance(p, 1, cam.near_d, g, cam.ortho) < 0.0f) |
-               (clvis_clip_distance(p, 2, cam.near_d, g, cam.ortho) < 0.0f) |
-               (clvis_clip_distance(p, 3, cam.near_d, g, cam.ortho) < 0.0f) |
-               (clvis_clip_distance(p, 4, cam.near_d, g, cam.ortho) < 0.0f);
+    /* The clip test is the clipper's own (clvis_clip_distance not >= 0 for some plane: a NaN, a
+       point that is not finite, counts as outside), so that a vertex kept whole here is kept
+       whole by the clipper of a neighbour that needs clipping. */
+    int clip = !(clvis_clip_distance(p, 0, cam.near_d, g, cam.ortho) >= 0.0f) |
+               !(clvis_clip_distance(p, 1, cam.near_d, g, cam.ortho) >= 0.0f) |
+               !(clvis_clip_distance(p, 2, cam.near_d, g, cam.ortho) >= 0.0f) |
+               !(clvis_clip_distance(p, 3, cam.near_d, g, cam.ortho) >= 0.0f) |
+               !(clvis_clip_distance(p, 4, cam.near_d, g, cam.ortho) >= 0.0f);
     float right = clvis_window_right(cam), left = clvis_window_left(cam);
     float top = clvis_window_top(cam), bottom = clvis_window_bottom(cam);
     return (p.d < cam.near_d ? CLVIS_OUT_NEAR : 0u) | (p.d > cam.far_d ? CLVIS_OUT_FAR : 0u) |
@@ -110,19 +161,53 @@ static inline int clvis_clip_vertex_less(clvis_clip_vertex a, clvis_clip_vertex 
     return a.d < b.d;
 }
 
-/* The point where segment ab crosses the plane on which a and b have distances da and db of
-   opposite signs; symmetric in (a, da) and (b, db) to the bit. */
-static inline clvis_clip_vertex clvis_clip_cut(clvis_clip_vertex a, float da, clvis_clip_vertex b, float db)
+static inline float clvis_absf32(float v) { return v < 0.0f ? -v : v; }
+
+/* The point where segment ab crosses clip plane `plane`, on which a and b have distances da and db
+   of opposite signs (clvis_clip_distance: finite, at most FLT_MAX / 2 in magnitude); symmetric in
+   (a, da) and (b, db) to the bit. It is measured from the endpoint nearer the plane (ties: the
+   lower in clvis_clip_vertex_less), so its error is relative to the distance from that endpoint,
+   not to the other's size; the halved difference keeps huge finite endpoints from overflowing.
+   Then the coordinate the plane fixes is set on the plane (d = near, x = +-gx h, y = +-gy h): an
+   edge between two points near 3e38 has its cut's parameter rounded by far more than the view,
+   but only along the plane, where it stays far outside the image. */
+static inline clvis_clip_vertex clvis_clip_cut(clvis_clip_vertex a, float da, clvis_clip_vertex b, float db, int plane,
+                                               float near_d, clvis_guard g, int ortho)
 {
-    if (clvis_clip_vertex_less(b, a)) {
+    float fa = da < 0.0f ? -da : da, fb = db < 0.0f ? -db : db;
+    if (fb < fa || (fb == fa && clvis_clip_vertex_less(b, a))) {
         clvis_clip_vertex tv = a; a = b; b = tv;
         float td = da; da = db; db = td;
     }
-    float t = da / (da - db);
+    float t2 = (2.0f * da) / (da - db); /* twice the parameter, in [0, 1] */
     clvis_clip_vertex p;
-    p.x = a.x + t * (b.x - a.x);
-    p.y = a.y + t * (b.y - a.y);
-    p.d = a.d + t * (b.d - a.d);
+    p.x = a.x + t2 * (0.5f * b.x - 0.5f * a.x);
+    p.y = a.y + t2 * (0.5f * b.y - 0.5f * a.y);
+    p.d = a.d + t2 * (0.5f * b.d - 0.5f * a.d);
+    float h = ortho ? 1.0f : p.d;
+    float on = plane == 0 ? near_d
+             : plane == 1 ? g.hi_x * h : plane == 2 ? g.lo_x * h : plane == 3 ? g.hi_y * h : g.lo_y * h;
+    if ((clvis_float_bits(on) & 0x7F800000u) != 0x7F800000u) { /* hi_x h may overflow: keep the cut */
+        if (plane == 0) p.d = on;
+        else if (plane <= 2) p.x = on;
+        else p.y = on;
+    }
+    /* Each coordinate it interpolates is off by about 2^-22 (|a| + |p|) in that coordinate (a:
+       the nearer endpoint); the one it sets is exact. Where that moves its screen position by more
+       than the guard band and by more than 2^-8 of that position (an edge between points near
+       3e38 whose cut near the eye is all rounding: camera-space coordinates that large carry
+       about 2e31 of error under a rotated frame), the cut says nothing: it becomes a NaN point,
+       which the next plane drops, so the triangle draws at most the part its trustworthy points
+       span, never a part the rounding invented. */
+    float ux = plane == 1 || plane == 2 ? 0.0f : 4.8e-7f * (0.5f * clvis_absf32(a.x) + 0.5f * clvis_absf32(p.x));
+    float uy = plane == 3 || plane == 4 ? 0.0f : 4.8e-7f * (0.5f * clvis_absf32(a.y) + 0.5f * clvis_absf32(p.y));
+    float ud = plane == 0 || ortho ? 0.0f : 4.8e-7f * (0.5f * clvis_absf32(a.d) + 0.5f * clvis_absf32(p.d));
+    float hp = ortho ? 1.0f : clvis_absf32(p.d);
+    float sx = clvis_absf32(p.x) / hp, sy = clvis_absf32(p.y) / hp, rd = ud / hp;
+    float usx = ux / hp + sx * rd, usy = uy / hp + sy * rd;
+    float us = usx > usy ? usx : usy, sp = sx > sy ? sx : sy;
+    float gmin = g.gx < g.gy ? g.gx : g.gy;
+    if (us > gmin && us > 0.00390625f * sp) p.x = clvis_bits_float(0x7FC00000u);
     return p;
 }
 
@@ -159,6 +244,15 @@ typedef struct clvis_raster_projected {
     clvis_u32 code;  /* clvis_outcode */
 } clvis_raster_projected;
 
+/* Clamps a raster coordinate of a `size`-pixel axis to CLVIS_GUARD_SLACK px past the guard band;
+   a NaN goes to the low end (only vertices that are clipped away are ever NaN here). */
+static inline float clvis_clamp_raster(float v, int size)
+{
+    float lo = -(float)(CLVIS_GUARD_MARGIN + CLVIS_GUARD_SLACK);
+    float hi = (float)size + (float)(CLVIS_GUARD_MARGIN + CLVIS_GUARD_SLACK);
+    return v >= lo ? (v <= hi ? v : hi) : lo;
+}
+
 /* The raster vertex of a camera-space point, through the shared projection. */
 static inline clvis_raster_vertex clvis_raster_vertex_from(clvis_camera_gpu cam, clvis_clip_vertex p)
 {
@@ -168,8 +262,8 @@ static inline clvis_raster_vertex clvis_raster_vertex_from(clvis_camera_gpu cam,
     c.z = -p.d;
     clvis_vec2 r = clvis_raster_from_screen(cam, clvis_screen_from_camera(cam, c));
     clvis_raster_vertex v;
-    v.x = clvis_snap(r.x);
-    v.y = clvis_snap(r.y);
+    v.x = clvis_snap(clvis_clamp_raster(r.x, cam.width));
+    v.y = clvis_snap(clvis_clamp_raster(r.y, cam.height));
     v.v = cam.ortho ? p.d : 1.0f / p.d;
     return v;
 }
