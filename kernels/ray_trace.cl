@@ -106,9 +106,43 @@ static lanes_f permuted(float x, float y, float z, lanes_i k0, lanes_i k1)
     return select(select((lanes_f)(z), (lanes_f)(y), k1), (lanes_f)(x), k0);
 }
 
+/* clvis_ray_edges_of on every lane: the shear, the edge functions (with the double-precision
+   recompute on the lanes where one rounded to zero: one OR of the lanes decides), det and tz. */
+typedef struct { lanes_f u, v, w, det, tz; } packet_edges;
+
+static packet_edges packet_edges_of(const packet* p, lanes_f akx, lanes_f aky, lanes_f akz, lanes_f bkx, lanes_f bky,
+                                    lanes_f bkz, lanes_f ckx, lanes_f cky, lanes_f ckz)
+{
+    lanes_f ax = akx - p->sx * akz;
+    lanes_f ay = aky - p->sy * akz;
+    lanes_f bx = bkx - p->sx * bkz;
+    lanes_f by = bky - p->sy * bkz;
+    lanes_f cx = ckx - p->sx * ckz;
+    lanes_f cy = cky - p->sy * ckz;
+    packet_edges r;
+    r.u = cx * by - cy * bx;
+    r.v = ax * cy - ay * cx;
+    r.w = bx * ay - by * ax;
+#ifdef CLVIS_HAVE_DOUBLE
+    lanes_i zero = (r.u == 0.0f) | (r.v == 0.0f) | (r.w == 0.0f);
+    if (or_lanes(zero)) {
+        double16 dax = convert_double16(ax), day = convert_double16(ay), dbx = convert_double16(bx);
+        double16 dby = convert_double16(by), dcx = convert_double16(cx), dcy = convert_double16(cy);
+        r.u = select(r.u, convert_float16(dcx * dby - dcy * dbx), zero);
+        r.v = select(r.v, convert_float16(dax * dcy - day * dcx), zero);
+        r.w = select(r.w, convert_float16(dbx * day - dby * dax), zero);
+    }
+#endif
+    r.det = r.u + r.v + r.w;
+    r.tz = r.u * (p->sz * akz) + r.v * (p->sz * bkz) + r.w * (p->sz * ckz);
+    return r;
+}
+
+/* Lanes where a value is not finite (clvis_finite's bits). */
+static lanes_i not_finite(lanes_f v) { return (as_uint16(v) & 0x7F800000u) == 0x7F800000u; }
+
 /* clvis_intersect_triangle on every lane (culling by `faces`, CLVIS_CULL_*), keeping each lane's
-   nearest key (t bits, then id). The
-   vertices are permuted to each lane's shear axes and the lane's permuted origin subtracted: the
+   nearest key (t bits, then id). The vertices are permuted to each lane's shear axes and the lane's permuted origin subtracted: the
    same single subtraction as the scalar test, whichever comes first. */
 static void packet_test_triangle(const packet* p, __global const clvis_bvh_tri* tri, float near_t, float far_t,
                                  int faces, lanes_u* best_t, lanes_u* best_id)
@@ -147,36 +181,43 @@ static void packet_test_triangle(const packet* p, __global const clvis_bvh_tri* 
         cky = permuted(vert[6], vert[7], vert[8], p->ky0, p->ky1) - p->py;
         ckz = permuted(vert[6], vert[7], vert[8], p->kz0, p->kz1) - p->pz;
     }
-    lanes_f ax = akx - p->sx * akz;
-    lanes_f ay = aky - p->sy * akz;
-    lanes_f bx = bkx - p->sx * bkz;
-    lanes_f by = bky - p->sy * bkz;
-    lanes_f cx = ckx - p->sx * ckz;
-    lanes_f cy = cky - p->sy * ckz;
-    lanes_f u = cx * by - cy * bx;
-    lanes_f v = ax * cy - ay * cx;
-    lanes_f w = bx * ay - by * ax;
-#ifdef CLVIS_HAVE_DOUBLE
-    /* clvis_intersect_triangle's double-precision recompute, on the lanes where an edge function
-       rounded to zero (rare: one OR of the lanes decides). */
-    lanes_i zero = (u == 0.0f) | (v == 0.0f) | (w == 0.0f);
-    if (or_lanes(zero)) {
-        double16 dax = convert_double16(ax), day = convert_double16(ay), dbx = convert_double16(bx);
-        double16 dby = convert_double16(by), dcx = convert_double16(cx), dcy = convert_double16(cy);
-        u = select(u, convert_float16(dcx * dby - dcy * dbx), zero);
-        v = select(v, convert_float16(dax * dcy - day * dcx), zero);
-        w = select(w, convert_float16(dbx * day - dby * dax), zero);
+    packet_edges r = packet_edges_of(p, akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz);
+    lanes_f unscale = (lanes_f)(1.0f);
+    lanes_i huge = not_finite(r.det) | not_finite(r.tz);
+    if (or_lanes(huge)) {
+        /* clvis_intersect_triangle's scaled retest: every coordinate times clvis_ray_scale of the
+           largest magnitude among the vertices and the lane's origin. */
+        float m = 0.0f;
+        for (int i = 0; i < 9; ++i) m = fabs(vert[i]) > m ? fabs(vert[i]) : m;
+        lanes_f mo = select(fabs(p->px), fabs(p->py), fabs(p->py) > fabs(p->px));
+        mo = select(mo, fabs(p->pz), fabs(p->pz) > mo);
+        mo = select(mo, (lanes_f)(m), (lanes_f)(m) > mo);
+        lanes_i e = convert_int16((as_uint16(mo) >> 23) & 0xFFu) - 127;
+        lanes_f k = select((lanes_f)(1.0f), as_float16(convert_uint16(157 - e) << 23), e > 30);
+        packet_edges q = packet_edges_of(
+            p, permuted(vert[0], vert[1], vert[2], p->kx0, p->kx1) * k - p->px * k,
+            permuted(vert[0], vert[1], vert[2], p->ky0, p->ky1) * k - p->py * k,
+            permuted(vert[0], vert[1], vert[2], p->kz0, p->kz1) * k - p->pz * k,
+            permuted(vert[3], vert[4], vert[5], p->kx0, p->kx1) * k - p->px * k,
+            permuted(vert[3], vert[4], vert[5], p->ky0, p->ky1) * k - p->py * k,
+            permuted(vert[3], vert[4], vert[5], p->kz0, p->kz1) * k - p->pz * k,
+            permuted(vert[6], vert[7], vert[8], p->kx0, p->kx1) * k - p->px * k,
+            permuted(vert[6], vert[7], vert[8], p->ky0, p->ky1) * k - p->py * k,
+            permuted(vert[6], vert[7], vert[8], p->kz0, p->kz1) * k - p->pz * k);
+        r.u = select(r.u, q.u, huge);
+        r.v = select(r.v, q.v, huge);
+        r.w = select(r.w, q.w, huge);
+        r.det = select(r.det, q.det, huge);
+        r.tz = select(r.tz, q.tz, huge);
+        unscale = select(unscale, 1.0f / k, huge);
     }
-#endif
     /* Not outside: the edge functions do not take both signs. (Masks come only from comparisons,
        never from ~, so every lane is 0 or -1 on every implementation.) */
-    lanes_i inside = ((u >= 0.0f) & (v >= 0.0f) & (w >= 0.0f)) | ((u <= 0.0f) & (v <= 0.0f) & (w <= 0.0f));
-    lanes_f det = u + v + w;
-    lanes_f tz = u * (p->sz * akz) + v * (p->sz * bkz) + w * (p->sz * ckz);
-    lanes_f t = tz / det;
-    lanes_i hit = inside & (det != 0.0f) & (t >= near_t) & (t <= far_t);
-    if (faces == CLVIS_CULL_BACK) hit &= det > 0.0f; /* clvis_cull_keeps on every lane */
-    else if (faces == CLVIS_CULL_FRONT) hit &= det < 0.0f;
+    lanes_i inside = ((r.u >= 0.0f) & (r.v >= 0.0f) & (r.w >= 0.0f)) | ((r.u <= 0.0f) & (r.v <= 0.0f) & (r.w <= 0.0f));
+    lanes_f t = r.tz / r.det * unscale;
+    lanes_i hit = inside & (r.det != 0.0f) & (t >= near_t) & (t <= far_t);
+    if (faces == CLVIS_CULL_BACK) hit &= r.det > 0.0f; /* clvis_cull_keeps on every lane */
+    else if (faces == CLVIS_CULL_FRONT) hit &= r.det < 0.0f;
     lanes_u bits = as_uint16(t), id = (lanes_u)(tri->id);
     lanes_i nearer = hit & ((bits < *best_t) | ((bits == *best_t) & (id < *best_id)));
     *best_t = select(*best_t, bits, nearer);

@@ -58,24 +58,54 @@ static inline clvis_ray_shear clvis_make_shear(clvis_vec3 origin, clvis_vec3 dir
     return s;
 }
 
+/* Whether a float is finite, from its bits (the same on every compiler and device). */
+static inline int clvis_finite(float v) { return (clvis_float_bits(v) & 0x7F800000u) != 0x7F800000u; }
+
+/* The power of two 2^(30 - e) that brings the largest magnitude m (exponent e > 30) down to
+   [2^30, 2^31): then tz, a product of three sheared coordinates, stays below 2^100. Multiplying
+   by it is exact (barring underflow below 2^-156 m), so the edge functions' signs, and with them
+   watertightness, do not change. 1 when m is below 2^31 (nothing can overflow then). */
+static inline float clvis_ray_scale(float m)
+{
+    clvis_i32 e = (clvis_i32)((clvis_float_bits(m) >> 23) & 0xFFu) - 127;
+    return e > 30 ? clvis_bits_float((clvis_u32)(157 - e) << 23) : 1.0f;
+}
+
+/* p - origin, both scaled by k (a power of two: exact; k = 1 gives p - origin's own bits). */
+static inline clvis_vec3 clvis_ray_translate(clvis_vec3 p, clvis_vec3 origin, float k)
+{
+    clvis_vec3 r;
+    r.x = p.x * k - origin.x * k;
+    r.y = p.y * k - origin.y * k;
+    r.z = p.z * k - origin.z * k;
+    return r;
+}
+
+static inline float clvis_max_abs3(clvis_vec3 p)
+{
+    float m = clvis_absf(p.x) > clvis_absf(p.y) ? clvis_absf(p.x) : clvis_absf(p.y);
+    return m > clvis_absf(p.z) ? m : clvis_absf(p.z);
+}
+
 /* Triangle (a, b, c) in the sheared frame of a ray, which sits at the 2D origin: the vertices'
    2D positions, their depths along kz, and the edge functions u (edge b->c), v (c->a), w (a->b),
    which are the barycentric weights of a, b and c times det = u + v + w. Each edge is evaluated
    with the same operations in both triangles that share it (only the sign flips), so no ray
-   passes between them. */
+   passes between them. Coordinates may be scaled by a power of two (clvis_project_triangle):
+   `unscale` takes a distance back to world units. */
 typedef struct clvis_tri_2d {
-    float ax, ay, bx, by, cx, cy;   /* sheared 2D positions, world units */
+    float ax, ay, bx, by, cx, cy;   /* sheared 2D positions, world units times 1 / unscale */
     float akz, bkz, ckz;            /* vertex minus origin along the axis kz */
     float u, v, w;                  /* edge functions of b->c, c->a, a->b */
+    float unscale;                  /* 1 / the scale applied to every coordinate */
 } clvis_tri_2d;
 
-static inline clvis_tri_2d clvis_project_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c)
+static inline clvis_tri_2d clvis_project_triangle_scaled(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
+                                                         float k)
 {
     clvis_tri_2d p;
-    clvis_vec3 A, B, C;
-    A.x = a.x - s.origin.x; A.y = a.y - s.origin.y; A.z = a.z - s.origin.z;
-    B.x = b.x - s.origin.x; B.y = b.y - s.origin.y; B.z = b.z - s.origin.z;
-    C.x = c.x - s.origin.x; C.y = c.y - s.origin.y; C.z = c.z - s.origin.z;
+    clvis_vec3 A = clvis_ray_translate(a, s.origin, k), B = clvis_ray_translate(b, s.origin, k);
+    clvis_vec3 C = clvis_ray_translate(c, s.origin, k);
     p.akz = clvis_component(A, s.kz); p.bkz = clvis_component(B, s.kz); p.ckz = clvis_component(C, s.kz);
     p.ax = clvis_component(A, s.kx) - s.sx * p.akz;
     p.ay = clvis_component(A, s.ky) - s.sy * p.akz;
@@ -98,14 +128,33 @@ static inline clvis_tri_2d clvis_project_triangle(clvis_ray_shear s, clvis_vec3 
         p.w = (float)((double)p.bx * (double)p.ay - (double)p.by * (double)p.ax);
     }
 #endif
+    p.unscale = 1.0f / k;
     return p;
+}
+
+/* The hit distance times det, in the scaled units of p. */
+static inline float clvis_triangle_tz(clvis_ray_shear s, clvis_tri_2d p)
+{
+    return p.u * (s.sz * p.akz) + p.v * (s.sz * p.bkz) + p.w * (s.sz * p.ckz);
+}
+
+/* The triangle in the ray's frame. Where huge finite coordinates overflow (det or tz not
+   finite), it is projected again with every coordinate scaled by clvis_ray_scale of the largest. */
+static inline clvis_tri_2d clvis_project_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c)
+{
+    clvis_tri_2d p = clvis_project_triangle_scaled(s, a, b, c, 1.0f);
+    if (clvis_finite(p.u + p.v + p.w) && clvis_finite(clvis_triangle_tz(s, p))) return p;
+    float m = clvis_max_abs3(a), mb = clvis_max_abs3(b), mc = clvis_max_abs3(c), mo = clvis_max_abs3(s.origin);
+    m = m > mb ? m : mb;
+    m = m > mc ? m : mc;
+    m = m > mo ? m : mo;
+    return clvis_project_triangle_scaled(s, a, b, c, clvis_ray_scale(m));
 }
 
 /* The ray parameter of the projected triangle's plane (det = u + v + w, non-zero). */
 static inline float clvis_triangle_t(clvis_ray_shear s, clvis_tri_2d p, float det)
 {
-    float tz = p.u * (s.sz * p.akz) + p.v * (s.sz * p.bkz) + p.w * (s.sz * p.ckz);
-    return tz / det;
+    return clvis_triangle_tz(s, p) / det * p.unscale;
 }
 
 /* The watertight test of the ray against triangle (a, b, c), both sides, edges inclusive: rays
