@@ -437,3 +437,42 @@ TEST_CASE("the referee judges a 1920x1080 frame of a 70k-triangle mesh in a few 
     CHECK(r.errors == r.errors_a);
     CHECK(seconds < 10);
 }
+
+TEST_CASE("triangles near 3e38 and with one vertex at 1e30 are judged by their true planes", "[referee]")
+{
+    // A backdrop at depth 50 whose vertices are near +-3e38: its plane passes 50 from the eye,
+    // 1e-37 of its vertices' size, and is not edge-on. One vertex at 1e30 behind the eye with two
+    // ordinary ones: the edge vectors lose the ordinary coordinates in double, the normal must not.
+    const float big = 3e38f;
+    Scene s = scene_of({-big, -big, -50, big, -big, -50, 0, big, -50, //
+                        1e30f, 1e30f, 1e30f, 2, 0, -4, 0, 2, -4});
+    Camera cam = Camera::perspective({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 50, 0.5, 100);
+    Referee ref(s, cam, 96, 64);
+    for (int y : {0, 31, 63})
+        for (int x : {0, 47, 95}) {
+            TriangleAtSample t = ref.classify(0, x, y);
+            CHECK(t.cls == SampleClass::In);
+            CHECK(t.depth == Approx(50.0).epsilon(1e-12));
+        }
+    // The second triangle's visible part runs from its ordinary edge (screen x + y = 0.5) towards
+    // the near-plane cut far up and to the right; pixel (51, 0) lies inside it at screen
+    // (0.051, 0.459), pixel (40, 40) below its ordinary edge.
+    CHECK(ref.classify(1, 51, 0).cls == SampleClass::In);
+    CHECK(ref.classify(1, 40, 40).cls == SampleClass::Out);
+}
+
+TEST_CASE("a looser tolerance widens the ambiguous band; a tighter one is refused", "[referee]")
+{
+    Scene s = shared_edge();
+    Referee strict(s, axis_camera(), 4, 4);
+    // Pixel column 1 lies 1 px from the shared edge, which runs through column 2's centres.
+    CHECK(strict.classify(1, 1, 1).cls == SampleClass::Out);
+    RefereeTolerance loose;
+    loose.edge_eps = 1.25;
+    Referee wide(s, axis_camera(), 4, 4, {}, loose);
+    CHECK(wide.classify(1, 1, 1).cls == SampleClass::Ambiguous);
+    CHECK(wide.judge(1, 1, 1).acceptable());
+    for (RefereeTolerance bad : {RefereeTolerance{1e-4, 1e-6}, RefereeTolerance{1e-3, 1e-7},
+                                 RefereeTolerance{std::nan(""), 1e-6}, RefereeTolerance{1e-3, INFINITY}})
+        CHECK_THROWS_AS(Referee(s, axis_camera(), 4, 4, {}, bad), Error);
+}

@@ -114,13 +114,22 @@ Referee::Impl::Nearest Referee::Impl::nearest(int x, int y) const
     return n;
 }
 
-Referee::Referee(const Scene& scene, const Camera& camera, int width, int height, const RenderOptions& options)
+Referee::Referee(const Scene& scene, const Camera& camera, int width, int height, const RenderOptions& options,
+                 RefereeTolerance tolerance)
     : impl_(std::make_unique<Impl>())
 {
     camera.validate();
     if (width <= 0 || height <= 0)
         throw Error(Error::Kind::InvalidArgument,
                     "referee: image size must be positive, got " + std::to_string(width) + "x" + std::to_string(height));
+    if (!(tolerance.edge_eps >= referee_edge_eps && tolerance.edge_eps < 1e6) ||
+        !(tolerance.depth_rel >= referee_depth_rel && tolerance.depth_rel < 1))
+        throw Error(Error::Kind::InvalidArgument,
+                    "referee: tolerance must be at least CONVENTIONS.md's (edge_eps " + std::to_string(referee_edge_eps) +
+                        " px, depth_rel " + std::to_string(referee_depth_rel) + ") and finite, got edge_eps " +
+                        std::to_string(tolerance.edge_eps) + ", depth_rel " + std::to_string(tolerance.depth_rel));
+    impl_->eps = tolerance.edge_eps;
+    impl_->rel = tolerance.depth_rel;
     impl_->camera = camera;
     impl_->width = width;
     impl_->height = height;
@@ -159,7 +168,7 @@ std::uint32_t Referee::reference(int x, int y, bool* ambiguous, double* depth) c
     if (ambiguous) {
         *ambiguous = false;
         impl_->for_candidates(x, y, [&](std::uint32_t id, const TriangleAtSample& s) {
-            if (id != n.id && s.cls != SampleClass::Out && !(s.depth > n.depth * (1 + rel))) *ambiguous = true;
+            if (id != n.id && s.cls != SampleClass::Out && !(s.depth > n.depth * (1 + impl_->rel))) *ambiguous = true;
         });
     }
     if (depth) *depth = n.depth;

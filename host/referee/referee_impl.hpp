@@ -11,8 +11,6 @@
 
 namespace clvis::detail {
 
-constexpr double eps = referee_edge_eps;
-constexpr double rel = referee_depth_rel;
 constexpr double inf = std::numeric_limits<double>::infinity();
 /// Binning tiles, in pixels per side.
 constexpr int tile_log2 = 3;
@@ -50,6 +48,7 @@ namespace clvis {
 struct Referee::Impl {
     Camera camera;
     int width = 0, height = 0;
+    double eps = referee_edge_eps, rel = referee_depth_rel; ///< RefereeTolerance
     Cull cull = Cull::None;
     bool perspective = true;
     double near_lo = 0, near_in = 0, far_in = 0, far_hi = 0; ///< depth range with tolerances

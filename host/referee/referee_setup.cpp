@@ -21,13 +21,53 @@ bool products_equal(double a, double b, double c, double d)
     return p == q && std::fma(a, b, -p) == std::fma(c, d, -q);
 }
 
+/// Whether a - b is exact in double, componentwise: TwoSum's error term of a + (-b) is zero.
+bool exact_difference(Vec3 a, Vec3 b)
+{
+    auto exact = [](double x, double y) {
+        double s = x - y, bb = s - x;
+        return (x - (s - bb)) + (-y - bb) == 0;
+    };
+    return exact(a.x, b.x) && exact(a.y, b.y) && exact(a.z, b.z);
+}
+
 /// The float32 triangle has zero area: its edge vectors (exact in double for all but extreme
 /// exponent gaps) are parallel.
 bool zero_area(Vec3 p0, Vec3 p1, Vec3 p2)
 {
     Vec3 e1 = p1 - p0, e2 = p2 - p0;
+    // Beyond that exponent gap (a vertex near 1e30 beside ordinary ones) the edge vectors round:
+    // decide from the exact expansion of the normal instead, zero only if every term cancels.
+    if (!exact_difference(p1, p0) || !exact_difference(p2, p0)) {
+        Vec3 n = cross(p0, p1) + cross(p1, p2) + cross(p2, p0);
+        return n.x == 0 && n.y == 0 && n.z == 0;
+    }
     return products_equal(e1.y, e2.z, e1.z, e2.y) && products_equal(e1.z, e2.x, e1.x, e2.z) &&
            products_equal(e1.x, e2.y, e1.y, e2.x);
+}
+
+/// |a_y b_z| + |a_z b_y| and so on: the size of the products cross(a, b) sums, per component.
+Vec3 cross_terms(Vec3 a, Vec3 b)
+{
+    return {std::fabs(a.y * b.z) + std::fabs(a.z * b.y), std::fabs(a.z * b.x) + std::fabs(a.x * b.z),
+            std::fabs(a.x * b.y) + std::fabs(a.y * b.x)};
+}
+
+/// The triangle's normal cross(p1 - p0, p2 - p0), and in *terms the size of the products it is
+/// summed from. From the edge vectors when they are exact in double (vertices of similar
+/// magnitude, always so for float32 coordinates less than 2^29 apart in exponent); else as
+/// cross(p0, p1) + cross(p1, p2) + cross(p2, p0), the same in exact arithmetic, which keeps a
+/// vertex near 1e30 from swallowing the others' differences (the edge vectors would be parallel).
+Vec3 normal_of(const Vec3 p[3], Vec3* terms)
+{
+    Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
+    if (exact_difference(p[1], p[0]) && exact_difference(p[2], p[0])) {
+        *terms = cross_terms(e1, e2);
+        return cross(e1, e2);
+    }
+    Vec3 t0 = cross_terms(p[0], p[1]), t1 = cross_terms(p[1], p[2]), t2 = cross_terms(p[2], p[0]);
+    *terms = {t0.x + t1.x + t2.x, t0.y + t1.y + t2.y, t0.z + t1.z + t2.z};
+    return cross(p[0], p[1]) + cross(p[1], p[2]) + cross(p[2], p[0]);
 }
 
 } // namespace
@@ -77,15 +117,25 @@ void Referee::Impl::setup(const Scene& scene)
 
 void Referee::Impl::setup_triangle(Triangle& t, const Vec3 world[3], const Vec3 p[3]) const
 {
-    Vec3 nc = cross(p[1] - p[0], p[2] - p[0]);
+    // The normal and, for the edge-on test, the size of the products it sums (see normal_of).
+    Vec3 terms;
+    Vec3 nc = normal_of(p, &terms);
     double nlen = length(nc);
+    // The vertex nearest the eye carries the plane's offset with the least rounding.
+    int near_k = 0;
+    for (int k = 1; k < 3; ++k) near_k = length(p[k]) < length(p[near_k]) ? k : near_k;
     // Scaled barycentrics of the ray's hit, edge by edge: dot(D, cross(Pa - O, Pb - O)), with
     // D = (sx, sy, -1), O = 0 (perspective) or D = (0, 0, -1), O = (sx, sy, 0) (orthographic).
     // Their sum is det = dot(D, nc), and the ray's t (its view depth) is num / det.
     double sign = 0;
     if (perspective) {
-        double num0 = dot(p[0], nc);
-        t.flat = !(std::fabs(num0) > edge_on_rel * length(p[0]) * nlen);
+        const Vec3& q = p[near_k];
+        double num0 = dot(q, nc);
+        // Edge-on when num0 (the plane's distance from the eye times |nc|) is lost in the
+        // rounding of its own terms: their size bounds it, not |q| |nc|, which for a huge
+        // triangle whose plane passes at an ordinary distance is 1e38 times larger.
+        double size = std::fabs(q.x) * terms.x + std::fabs(q.y) * terms.y + std::fabs(q.z) * terms.z;
+        t.flat = !(std::fabs(num0) > edge_on_rel * size);
         sign = num0 > 0 ? 1 : -1; // a visible hit has t > 0: det takes the sign of num
         t.det = to_raster(nc.x, nc.y, -nc.z);
         t.num = {0, 0, num0};
@@ -93,7 +143,7 @@ void Referee::Impl::setup_triangle(Triangle& t, const Vec3 world[3], const Vec3 
         t.flat = !(std::fabs(nc.z) > edge_on_rel * nlen);
         sign = -nc.z > 0 ? 1 : -1;
         t.det = {0, 0, -nc.z};
-        t.num = to_raster(-nc.x, -nc.y, dot(p[0], nc));
+        t.num = to_raster(-nc.x, -nc.y, dot(p[near_k], nc));
     }
     if (zero_area(world[0], world[1], world[2])) t.flat = true;
     // Front-facing (render_options.hpp) when the normal points towards the eye: then num < 0,

@@ -42,6 +42,14 @@ namespace clvis {
 /// relative depth tolerance, as CONVENTIONS.md sets them.
 constexpr double referee_edge_eps = 1e-3;
 constexpr double referee_depth_rel = 1e-6;
+
+/// A looser tolerance, for cases where float32 cannot honour CONVENTIONS.md's (its last
+/// precision paragraph: huge images, far meshes); never tighter than referee_edge_eps and
+/// referee_depth_rel. Whoever loosens it states why.
+struct RefereeTolerance {
+    double edge_eps = referee_edge_eps;   ///< px
+    double depth_rel = referee_depth_rel; ///< relative
+};
 /// The depth tolerance of a buffer's depths: relative, plus the gradient over this many pixels
 /// (the raster path's 1/65536 px snapping).
 constexpr double referee_depth_judge_rel = 1e-5;
@@ -153,7 +161,10 @@ public:
     /// indexes triangles by the pixel tiles their EPS-expanded projected bounds touch. Judges with
     /// `options` as the paths render with them (only `cull` changes an answer). Throws
     /// Error(InvalidArgument) for an invalid camera or a size <= 0. The scene is copied from.
-    Referee(const Scene& scene, const Camera& camera, int width, int height, const RenderOptions& options = {});
+    /// `tolerance` loosens CONVENTIONS.md's EPS and depth tolerance where float32 cannot honour
+    /// them; tighter or non-finite values throw Error(InvalidArgument).
+    Referee(const Scene& scene, const Camera& camera, int width, int height, const RenderOptions& options = {},
+            RefereeTolerance tolerance = {});
     ~Referee();
     Referee(Referee&&) noexcept;
     Referee& operator=(Referee&&) noexcept;
