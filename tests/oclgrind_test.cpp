@@ -1,11 +1,14 @@
 // Every kernel of both paths on Oclgrind's simulated device, which reports out-of-bounds
 // accesses, data races, uninitialised reads and barrier divergence, on small scenes that exercise
-// every branch; and the buffers must equal PoCL's bit for bit. Run by its own CTest entry
+// every branch (the raster path's growth-and-rerun of its triangle list, tile sizes and BVH leaf
+// sizes other than the defaults included); and the buffers must equal PoCL's bit for bit. Run by its own CTest entry
 // ("oclgrind"), which registers Oclgrind beside PoCL and fails on any report.
 #include "catch.hpp"
 #include "test_meshes.hpp"
 
 #include <clvis/clvis.hpp>
+
+#include "render/pipeline.hpp"
 
 #include <cmath>
 #include <cstring>
@@ -75,6 +78,42 @@ std::vector<Case> cases()
     return out;
 }
 
+/// More triangles listed for binning than the raster path's first list holds
+/// (detail::raster_first_tri_capacity): one-row triangles 12 px wide (too wide for setup's
+/// small-triangle path) in a 48x16 image, so the first frame overflows the list, grows it and runs
+/// setup again. Their boxes overlap in every tile.
+Case overflowing_list()
+{
+    const int w = 48, h = 16, n = int(clvis::detail::raster_first_tri_capacity) + 104;
+    Case c{"overflowing triangle list", {}, Camera::orthographic({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, h, 0.5, 100), w, h};
+    MeshData m;
+    for (int i = 0; i < n; ++i) {
+        float x = float((i * 37) % (w - 12)) - w / 2.0f, y = h / 2.0f - float(i % h) - 0.2f;
+        float d = 1.0f + float((i * 53) % 97) * 0.5f;
+        m.positions.insert(m.positions.end(), {x, y, -d, x + 12.0f, y - 0.3f, -d, x + 3.0f, y - 0.6f, -d});
+        for (std::uint32_t k = 0; k < 3; ++k) m.indices.push_back(3 * std::uint32_t(i) + k);
+    }
+    c.scene.add_mesh(m);
+    return c;
+}
+
+/// Renders `path` on a fresh Oclgrind device and on PoCL with `options`; the keys must match.
+void check_on_grind(const Device& pocl, const Case& c, Path path, const RenderOptions& options = {})
+{
+    Device grind = Device::open("oclgrind");
+    Renderer on_grind(grind, c.scene, options);
+    Renderer on_pocl(pocl, c.scene, options);
+    auto a = on_grind.render(c.camera, c.width, c.height, path).read_keys();
+    auto b = on_pocl.render(c.camera, c.width, c.height, path).read_keys();
+    std::size_t differ = 0, covered = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        differ += a[i] != b[i];
+        covered += (b[i] & 0xFFFFFFFFu) != background_id;
+    }
+    CHECK(differ == 0);
+    CHECK(covered > 0);
+}
+
 } // namespace
 
 // Each case opens Oclgrind afresh: Oclgrind 21.10 reports reads of kernel-written buffers as
@@ -86,18 +125,7 @@ TEST_CASE("every kernel runs clean on Oclgrind and matches PoCL bit for bit", "[
     for (Case& c : cases()) {
         for (Path path : {Path::Raster, Path::Ray, Path::Brute}) {
             INFO(c.name << ", " << to_string(path) << " path");
-            Device grind = Device::open("oclgrind");
-            Renderer on_grind(grind, c.scene);
-            Renderer on_pocl(pocl, c.scene);
-            auto a = on_grind.render(c.camera, c.width, c.height, path).read_keys();
-            auto b = on_pocl.render(c.camera, c.width, c.height, path).read_keys();
-            std::size_t differ = 0, covered = 0;
-            for (std::size_t i = 0; i < a.size(); ++i) {
-                differ += a[i] != b[i];
-                covered += (b[i] & 0xFFFFFFFFu) != background_id;
-            }
-            CHECK(differ == 0);
-            CHECK(covered > 0);
+            check_on_grind(pocl, c, path);
         }
     }
     // Shading reads the visibility buffer and the scene: it runs clean too.
@@ -165,4 +193,28 @@ TEST_CASE("the ray query kernels run clean on Oclgrind and match PoCL", "[.oclgr
     o.rays = 2;
     CHECK(q.ambient_occlusion(vis, cam, o).value.size() == 63);
     CHECK(q.shadows(vis, cam, Vec3{0, 5, 0}).value.size() == 63);
+}
+
+TEST_CASE("the raster path's list growth and rerun run clean on Oclgrind", "[.oclgrind]")
+{
+    Device pocl = Device::open("portable computing language");
+    Case c = overflowing_list();
+    check_on_grind(pocl, c, Path::Raster);
+}
+
+TEST_CASE("tile and BVH leaf sizes other than the defaults run clean on Oclgrind", "[.oclgrind]")
+{
+    // The smallest tile with one-triangle leaves, the largest tile with the largest leaves.
+    Device pocl = Device::open("portable computing language");
+    for (auto [tile, leaf] : {std::pair{4, 1}, {256, 64}}) {
+        RenderOptions o;
+        o.tile_size = tile;
+        o.bvh.max_leaf_size = leaf;
+        o.bvh.sah_bins = leaf == 1 ? 2 : 64;
+        Case c = std::move(cases().front());
+        for (Path path : {Path::Raster, Path::Ray}) {
+            INFO(c.name << ", tile " << tile << ", leaf " << leaf << ", " << to_string(path) << " path");
+            check_on_grind(pocl, c, path, o);
+        }
+    }
 }
