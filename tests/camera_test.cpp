@@ -232,6 +232,45 @@ TEST_CASE("invalid cameras are refused with the field named", "[camera]")
     CHECK(msg(c).find("ortho height") != std::string::npos);
 }
 
+TEST_CASE("camera factories refuse NaN and out-of-range values when made", "[camera]")
+{
+    const double nan = std::nan("");
+    const Vec3 o{0, 0, 0}, ahead{0, 0, -1}, y{0, 1, 0};
+    auto refused = [](auto make, const char* field) { CHECK_THROWS_WITH(make(), Catch::Contains(field)); };
+    try {
+        Camera::perspective(o, ahead, y, 45, nan, 10);
+        FAIL("made a camera with a NaN near");
+    } catch (const Error& e) {
+        CHECK(e.kind() == Error::Kind::InvalidArgument);
+    }
+    refused([&] { Camera::perspective({nan, 0, 0}, ahead, y, 45, 0.1, 10); }, "eye");
+    refused([&] { Camera::perspective(o, {0, nan, -1}, y, 45, 0.1, 10); }, "target");
+    refused([&] { Camera::perspective(o, ahead, {0, nan, 0}, 45, 0.1, 10); }, "up");
+    refused([&] { Camera::perspective(o, ahead, y, nan, 0.1, 10); }, "fov");
+    refused([&] { Camera::perspective(o, ahead, y, 0, 0.1, 10); }, "fov");
+    refused([&] { Camera::perspective(o, ahead, y, 1e-40, 0.1, 10); }, "fov");
+    refused([&] { Camera::perspective(o, ahead, y, 45, nan, 10); }, "near");
+    refused([&] { Camera::perspective(o, ahead, y, 45, 1e-300, 10); }, "near");
+    refused([&] { Camera::perspective(o, ahead, y, 45, 0.1, nan); }, "far");
+    refused([&] { Camera::perspective(o, ahead, y, 45, 0.1, 1e39); }, "far");
+    refused([&] { Camera::perspective({1e39, 0, 0}, {1e39, 0, -1}, y, 45, 0.1, 10); }, "eye");
+    refused([&] { Camera::orthographic(o, ahead, y, nan, 0.1, 10); }, "ortho height");
+    refused([&] { Camera::orthographic(o, ahead, y, 1e-300, 0.1, 10); }, "ortho height");
+    refused([&] { Camera::orthographic(o, ahead, y, 1e39, 0.1, 10); }, "ortho height");
+    refused([&] { Camera::orthographic(o, o, y, 2, 0.1, 10); }, "eye equals target");
+    refused([&] { Camera::physical(o, ahead, y, nan, 36, 24, FilmFit::Fill, 1.5, 0.1, 10); }, "focal length");
+    refused([&] { Camera::physical(o, ahead, y, 50, 36, nan, FilmFit::Fill, 1.5, 0.1, 10); }, "film gate");
+    refused([&] { Camera::physical(o, ahead, y, 50, 36, 24, FilmFit::Fill, nan, 0.1, 10); }, "aspect");
+    refused([&] { Camera::physical(o, ahead, y, 50, 36, 24, FilmFit::Fill, 1.5, 0.1, -1); }, "far");
+    Bounds huge;
+    huge.lo = {-1e38, -1e38, -1e38};
+    huge.hi = {1e38, 1e38, 1e38};
+    refused([&] { Camera::framing(huge); }, "outside float32's range");
+    // The edges of the ranges are still cameras.
+    CHECK_NOTHROW(Camera::perspective(o, ahead, y, 179.9, 1.2e-38, 3.4e38));
+    CHECK_NOTHROW(Camera::orthographic({3e38, 0, 0}, {3e38, 0, -1}, y, 3e38, 0.1, 10));
+}
+
 TEST_CASE("the framing camera sees the whole bounding sphere", "[camera]")
 {
     Bounds b;

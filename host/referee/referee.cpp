@@ -141,8 +141,14 @@ Referee::~Referee() = default;
 Referee::Referee(Referee&&) noexcept = default;
 Referee& Referee::operator=(Referee&&) noexcept = default;
 
-int Referee::width() const { return impl_->width; }
-int Referee::height() const { return impl_->height; }
+const Referee::Impl& Referee::checked(const char* call) const
+{
+    if (!impl_) throw Error(Error::Kind::InvalidArgument, std::string(call) + ": the Referee was moved from");
+    return *impl_;
+}
+
+int Referee::width() const { return checked("Referee::width").width; }
+int Referee::height() const { return checked("Referee::height").height; }
 
 void referee_check_pixel(const Referee::Impl& impl, int x, int y)
 {
@@ -154,7 +160,7 @@ void referee_check_pixel(const Referee::Impl& impl, int x, int y)
 
 TriangleAtSample Referee::classify(std::uint32_t id, int x, int y) const
 {
-    referee_check_pixel(*impl_, x, y);
+    referee_check_pixel(checked("Referee::classify"), x, y);
     if (id >= impl_->tris.size())
         throw Error(Error::Kind::InvalidArgument, "referee: triangle id " + std::to_string(id) + " not in the scene (" +
                                                       std::to_string(impl_->tris.size()) + " triangles)");
@@ -163,7 +169,7 @@ TriangleAtSample Referee::classify(std::uint32_t id, int x, int y) const
 
 std::uint32_t Referee::reference(int x, int y, bool* ambiguous, double* depth) const
 {
-    referee_check_pixel(*impl_, x, y);
+    referee_check_pixel(checked("Referee::reference"), x, y);
     Impl::Nearest n = impl_->nearest(x, y);
     if (ambiguous) {
         *ambiguous = false;

@@ -313,13 +313,13 @@ PixelVerdict Referee::judge(int x, int y, std::uint32_t id) const
 
 PixelVerdict Referee::judge(int x, int y, const SampleAnswer& answer) const
 {
-    referee_check_pixel(*impl_, x, y);
+    referee_check_pixel(checked("Referee::judge"), x, y);
     return impl_->judge(x, y, answer, impl_->nearest(x, y), referee_depth_judge_px);
 }
 
 CompareReport Referee::compare(const HostVisibility& a, const HostVisibility& b, const CompareOptions& options) const
 {
-    const Impl& im = *impl_;
+    const Impl& im = checked("Referee::compare");
     check_size(im, a, "first");
     check_size(im, b, "second");
     check_options(options);
@@ -347,7 +347,7 @@ CompareReport Referee::compare(const HostVisibility& a, const HostVisibility& b,
 
 CompareReport Referee::check(const HostVisibility& a, const CompareOptions& options) const
 {
-    const Impl& im = *impl_;
+    const Impl& im = checked("Referee::check");
     check_size(im, a, "checked");
     check_options(options);
     bool depths = !a.depth.empty();

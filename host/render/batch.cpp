@@ -95,7 +95,9 @@ void render_views(Renderer& renderer, const std::vector<Camera>& cameras, Path p
         }
         m.queue.finish();
         m.last.frame_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-        m.last.stages = m.stages.collect_sum();
+        std::optional<std::vector<StageTiming>> measured = m.stages.collect_sum();
+        m.last.stages_measured = measured.has_value();
+        m.last.stages = measured ? std::move(*measured) : std::vector<StageTiming>{};
     } catch (const cl::Error& e) {
         m.stages.collect();
         throw_cl_error(e, std::string("rendering a batch of views with the ") + to_string(path) + " path");

@@ -58,7 +58,7 @@ void clear_keys(cl::Kernel& clear, Frame& frame)
 
 void StageRecorder::add(const std::string& stage, const cl::Event& event) { events_.emplace_back(stage, event); }
 
-std::vector<StageTiming> StageRecorder::collect_sum()
+std::optional<std::vector<StageTiming>> StageRecorder::collect_sum()
 {
     std::vector<StageTiming> out;
     for (auto& [name, event] : events_) {
@@ -67,8 +67,8 @@ std::vector<StageTiming> StageRecorder::collect_sum()
             ms = double(event.getProfilingInfo<CL_PROFILING_COMMAND_END>() -
                         event.getProfilingInfo<CL_PROFILING_COMMAND_START>()) * 1e-6;
         } catch (const cl::Error&) {
-            events_.clear(); // a wrapped queue made without profiling
-            return {};
+            events_.clear(); // a wrapped queue made without profiling: stage times are absent
+            return std::nullopt;
         }
         auto it = std::find_if(out.begin(), out.end(), [&](const StageTiming& s) { return s.name == name; });
         if (it == out.end()) out.push_back({name, ms});
@@ -78,7 +78,7 @@ std::vector<StageTiming> StageRecorder::collect_sum()
     return out;
 }
 
-std::vector<StageTiming> StageRecorder::collect()
+std::optional<std::vector<StageTiming>> StageRecorder::collect()
 {
     std::vector<std::string> order;
     std::vector<std::pair<cl_ulong, cl_ulong>> spans;
@@ -88,9 +88,9 @@ std::vector<StageTiming> StageRecorder::collect()
             start = event.getProfilingInfo<CL_PROFILING_COMMAND_START>();
             end = event.getProfilingInfo<CL_PROFILING_COMMAND_END>();
         } catch (const cl::Error&) {
-            // A wrapped queue made without profiling: stage times are not available.
+            // A wrapped queue made without profiling: stage times are absent.
             events_.clear();
-            return {};
+            return std::nullopt;
         }
         auto it = std::find(order.begin(), order.end(), name);
         if (it == order.end()) {

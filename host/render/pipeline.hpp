@@ -13,6 +13,7 @@
 #include <clvis/render_options.hpp>
 #include <clvis/scene.hpp>
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -38,11 +39,12 @@ class StageRecorder {
 public:
     /// Records `event` under `stage` (stages keep the order of their first event).
     void add(const std::string& stage, const cl::Event& event);
-    /// Device time per stage in ms (end of last event - start of first, per stage), then clears.
-    std::vector<StageTiming> collect();
+    /// Device time per stage in ms (end of last event - start of first, per stage), then clears;
+    /// nullopt when the queue has no profiling (a wrapped queue made without it).
+    std::optional<std::vector<StageTiming>> collect();
     /// Device time per stage as the sum of its events' durations (a batch's kernels, however
-    /// interleaved), then clears.
-    std::vector<StageTiming> collect_sum();
+    /// interleaved), then clears; nullopt when the queue has no profiling.
+    std::optional<std::vector<StageTiming>> collect_sum();
 
 private:
     std::vector<std::pair<std::string, cl::Event>> events_;

@@ -6,6 +6,7 @@
 #include <clvis/renderer.hpp>
 
 #include <chrono>
+#include <optional>
 
 namespace clvis {
 
@@ -119,7 +120,7 @@ RayPipeline& Renderer::Impl::ray_pipeline(bool need_bvh)
 
 Renderer::Renderer(Device device, const Scene& scene, RenderOptions options) : impl_(std::make_unique<Impl>())
 {
-    if (!device) throw Error(Error::Kind::InvalidArgument, "Renderer: empty Device");
+    device.checked("Renderer");
     check_options(options);
     error_boundary("making a Renderer", [&] {
         impl_->device = std::move(device);
@@ -134,29 +135,39 @@ Renderer::~Renderer() = default;
 Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
+Renderer::Impl& Renderer::checked(const char* call) const
+{
+    if (!impl_)
+        throw Error(Error::Kind::InvalidArgument, std::string(call) + ": the Renderer was moved from");
+    return *impl_;
+}
+
 void Renderer::prepare(Path path)
 {
+    Impl& m = checked("Renderer::prepare");
     error_boundary(std::string("preparing the ") + to_string(path) + " path", [&] {
-        if (path == Path::Raster) impl_->raster_pipeline();
-        else impl_->ray_pipeline(path == Path::Ray);
+        if (path == Path::Raster) m.raster_pipeline();
+        else m.ray_pipeline(path == Path::Ray);
     });
 }
 
 VisibilityBuffer Renderer::render(const Camera& camera, int width, int height, Path path)
 {
+    Impl& m = checked("Renderer::render");
     camera.validate();
     return error_boundary(std::string("rendering with the ") + to_string(path) + " path", [&] {
-        VisibilityBuffer target(impl_->device, width, height);
-        impl_->render(camera, path, target);
+        VisibilityBuffer target(m.device, width, height);
+        m.render(camera, path, target);
         return target;
     });
 }
 
 void Renderer::render(const Camera& camera, Path path, VisibilityBuffer& target)
 {
+    Impl& m = checked("Renderer::render");
     camera.validate();
     error_boundary(std::string("rendering with the ") + to_string(path) + " path",
-                   [&] { impl_->render(camera, path, target); });
+                   [&] { m.render(camera, path, target); });
 }
 
 void Renderer::Impl::render(const Camera& camera, Path path, VisibilityBuffer& target)
@@ -181,7 +192,9 @@ void Renderer::Impl::render(const Camera& camera, Path path, VisibilityBuffer& t
         queue.finish();
         auto t1 = std::chrono::steady_clock::now();
         last.frame_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
-        last.stages = stages.collect();
+        std::optional<std::vector<StageTiming>> measured = stages.collect();
+        last.stages_measured = measured.has_value();
+        last.stages = measured ? std::move(*measured) : std::vector<StageTiming>{};
     } catch (const cl::Error& e) {
         stages.collect();
         throw_cl_error(e, std::string("rendering with the ") + to_string(path) + " path");
@@ -190,7 +203,8 @@ void Renderer::Impl::render(const Camera& camera, Path path, VisibilityBuffer& t
 
 void Renderer::update(const Scene& scene)
 {
-    error_boundary("updating the Renderer's scene", [&] { impl_->update(scene); });
+    Impl& m = checked("Renderer::update");
+    error_boundary("updating the Renderer's scene", [&] { m.update(scene); });
 }
 
 void Renderer::Impl::update(const Scene& now_scene)
@@ -231,9 +245,13 @@ void Renderer::Impl::update(const Scene& now_scene)
     if (m.ray && m.ray->built()) m.ray->update(m.scene, m.queue);
 }
 
-const FrameTiming& Renderer::last_frame() const { return impl_->last; }
-const BvhStats& Renderer::bvh_stats() const { return impl_->ray ? impl_->ray->stats() : impl_->no_bvh; }
-const RenderOptions& Renderer::options() const { return impl_->options; }
-const Device& Renderer::device() const { return impl_->device; }
+const FrameTiming& Renderer::last_frame() const { return checked("Renderer::last_frame").last; }
+const BvhStats& Renderer::bvh_stats() const
+{
+    const Impl& m = checked("Renderer::bvh_stats");
+    return m.ray ? m.ray->stats() : m.no_bvh;
+}
+const RenderOptions& Renderer::options() const { return checked("Renderer::options").options; }
+const Device& Renderer::device() const { return checked("Renderer::device").device; }
 
 } // namespace clvis

@@ -37,7 +37,7 @@ struct Renderer::Impl {
 namespace detail {
 /// Library code beside the Renderer (shading) reaches its state through this.
 struct RendererAccess {
-    static Renderer::Impl& of(Renderer& renderer) { return *renderer.impl_; }
+    static Renderer::Impl& of(Renderer& renderer, const char* call) { return renderer.checked(call); }
 };
 } // namespace detail
 

@@ -12,9 +12,9 @@ using namespace detail;
 
 Image shade(Renderer& renderer, const VisibilityBuffer& vis, const Camera& camera, const ShadeOptions& options)
 {
+    Renderer::Impl& r = RendererAccess::of(renderer, "shade");
     camera.validate();
     if (vis.empty()) throw Error(Error::Kind::InvalidArgument, "shade: empty visibility buffer");
-    Renderer::Impl& r = RendererAccess::of(renderer);
     if (vis.device().context() != r.device.context())
         throw Error(Error::Kind::InvalidArgument, "shade: the buffer belongs to another OpenCL context");
     Vec3 light = options.light_direction;

@@ -6,6 +6,7 @@
 #include <clvis/visibility.hpp>
 
 #include <algorithm>
+#include <utility>
 
 namespace clvis {
 
@@ -13,11 +14,20 @@ using detail::throw_cl_error;
 
 namespace {
 
-void check_size(int width, int height)
+void check_size(int width, int height, const char* call)
 {
     if (width <= 0 || height <= 0)
-        throw Error(Error::Kind::InvalidArgument, "image size must be positive, got " + std::to_string(width) +
-                                                      "x" + std::to_string(height));
+        throw Error(Error::Kind::InvalidArgument, std::string(call) + ": image size must be positive, got " +
+                                                      std::to_string(width) + "x" + std::to_string(height));
+}
+
+/// The context `mem` was made in; Error(InvalidArgument) when `mem` is not a buffer.
+cl_context context_of(cl_mem mem)
+{
+    cl_context context = nullptr;
+    if (clGetMemObjectInfo(mem, CL_MEM_CONTEXT, sizeof context, &context, nullptr) != CL_SUCCESS)
+        throw Error(Error::Kind::InvalidArgument, "VisibilityBuffer::wrap: not a valid cl_mem");
+    return context;
 }
 
 std::shared_ptr<_cl_mem> hold(cl_mem mem) { return std::shared_ptr<_cl_mem>(mem, clReleaseMemObject); }
@@ -27,9 +37,9 @@ std::shared_ptr<_cl_mem> hold(cl_mem mem) { return std::shared_ptr<_cl_mem>(mem,
 VisibilityBuffer::VisibilityBuffer(const Device& device, int width, int height)
     : device_(device), width_(width), height_(height)
 {
-    check_size(width, height);
+    auto& impl = device.checked("VisibilityBuffer");
+    check_size(width, height, "VisibilityBuffer");
     std::uint64_t bytes = std::uint64_t(width) * std::uint64_t(height) * 8;
-    auto& impl = *device.impl();
     impl.check_allocation(bytes, "a " + std::to_string(width) + "x" + std::to_string(height) + " visibility buffer");
     try {
         cl::Buffer buffer(impl.context, CL_MEM_READ_WRITE, bytes);
@@ -42,13 +52,31 @@ VisibilityBuffer::VisibilityBuffer(const Device& device, int width, int height)
     }
 }
 
+VisibilityBuffer::VisibilityBuffer(VisibilityBuffer&& other) noexcept
+    : device_(std::move(other.device_)), keys_(std::move(other.keys_)),
+      width_(std::exchange(other.width_, 0)), height_(std::exchange(other.height_, 0))
+{
+}
+
+VisibilityBuffer& VisibilityBuffer::operator=(VisibilityBuffer&& other) noexcept
+{
+    device_ = std::move(other.device_);
+    keys_ = std::move(other.keys_);
+    width_ = std::exchange(other.width_, 0);
+    height_ = std::exchange(other.height_, 0);
+    return *this;
+}
+
 VisibilityBuffer VisibilityBuffer::wrap(const Device& device, cl_mem keys, int width, int height)
 {
-    check_size(width, height);
+    cl_context context = device.checked("VisibilityBuffer::wrap").context();
+    check_size(width, height, "VisibilityBuffer::wrap");
     if (!keys) throw Error(Error::Kind::InvalidArgument, "VisibilityBuffer::wrap: null buffer");
+    if (context_of(keys) != context)
+        throw Error(Error::Kind::InvalidArgument,
+                    "VisibilityBuffer::wrap: the cl_mem belongs to another OpenCL context than the Device's");
     size_t bytes = 0;
-    if (clGetMemObjectInfo(keys, CL_MEM_SIZE, sizeof bytes, &bytes, nullptr) != CL_SUCCESS)
-        throw Error(Error::Kind::InvalidArgument, "VisibilityBuffer::wrap: not a valid cl_mem");
+    clGetMemObjectInfo(keys, CL_MEM_SIZE, sizeof bytes, &bytes, nullptr);
     if (bytes < std::size_t(width) * std::size_t(height) * 8)
         throw Error(Error::Kind::InvalidArgument,
                     "VisibilityBuffer::wrap: the buffer holds " + std::to_string(bytes) + " bytes, a " +
@@ -63,9 +91,19 @@ VisibilityBuffer VisibilityBuffer::wrap(const Device& device, cl_mem keys, int w
     return v;
 }
 
+namespace {
+
+[[noreturn]] void empty_buffer(const char* call)
+{
+    throw Error(Error::Kind::InvalidArgument,
+                std::string(call) + ": the VisibilityBuffer is empty (default-constructed or moved-from)");
+}
+
+} // namespace
+
 cl_mem VisibilityBuffer::keys() const
 {
-    if (!keys_) throw Error(Error::Kind::InvalidArgument, "use of an empty VisibilityBuffer");
+    if (!keys_) empty_buffer("VisibilityBuffer::keys");
     return keys_.get();
 }
 
@@ -74,9 +112,10 @@ namespace {
 /// Runs `fn` on the keys mapped for reading (blocking), then unmaps them. A mapping lets the
 /// split read the device's memory once (PoCL maps in place; a GPU copies to pinned memory), with
 /// no intermediate copy of the keys.
-template <class Fn> void with_mapped_keys(const VisibilityBuffer& v, Fn fn)
+template <class Fn> void with_mapped_keys(const VisibilityBuffer& v, const char* call, Fn fn)
 {
-    auto& impl = *v.device().impl();
+    if (v.width() == 0) empty_buffer(call);
+    auto& impl = v.device().checked(call);
     std::size_t bytes = std::size_t(v.width()) * std::size_t(v.height()) * 8;
     try {
         std::lock_guard<std::mutex> lock(impl.mutex);
@@ -101,7 +140,7 @@ template <class Fn> void with_mapped_keys(const VisibilityBuffer& v, Fn fn)
 void VisibilityBuffer::read_keys(std::vector<std::uint64_t>& keys) const
 {
     keys.resize(std::size_t(width_) * std::size_t(height_));
-    with_mapped_keys(*this, [&](const std::uint64_t* k) { std::copy(k, k + keys.size(), keys.data()); });
+    with_mapped_keys(*this, "VisibilityBuffer::read_keys", [&](const std::uint64_t* k) { std::copy(k, k + keys.size(), keys.data()); });
 }
 
 std::vector<std::uint64_t> VisibilityBuffer::read_keys() const
@@ -114,7 +153,7 @@ std::vector<std::uint64_t> VisibilityBuffer::read_keys() const
 void VisibilityBuffer::read(std::uint32_t* ids, float* depth) const
 {
     std::size_t n = std::size_t(width_) * std::size_t(height_);
-    with_mapped_keys(*this, [&](const std::uint64_t* k) {
+    with_mapped_keys(*this, "VisibilityBuffer::read", [&](const std::uint64_t* k) {
         if (ids && depth) {
             for (std::size_t i = 0; i < n; ++i) {
                 ids[i] = clvis_key_id(k[i]);

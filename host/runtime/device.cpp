@@ -340,18 +340,18 @@ Device Device::wrap(cl_context context, cl_command_queue queue)
     }
 }
 
-namespace {
-const Device::Impl& checked(const std::shared_ptr<Device::Impl>& impl)
+Device::Impl& Device::checked(const char* call) const
 {
-    if (!impl) throw Error(Error::Kind::InvalidArgument, "use of an empty clvis::Device");
-    return *impl;
+    if (!impl_)
+        throw Error(Error::Kind::InvalidArgument,
+                    std::string(call) + ": the Device is empty (default-constructed or moved-from)");
+    return *impl_;
 }
-} // namespace
 
-const DeviceInfo& Device::info() const { return checked(impl_).info; }
-cl_context Device::context() const { return checked(impl_).context(); }
-cl_device_id Device::id() const { return checked(impl_).device(); }
-cl_command_queue Device::queue() const { return checked(impl_).queue(); }
+const DeviceInfo& Device::info() const { return checked("Device::info").info; }
+cl_context Device::context() const { return checked("Device::context").context(); }
+cl_device_id Device::id() const { return checked("Device::id").device(); }
+cl_command_queue Device::queue() const { return checked("Device::queue").queue(); }
 
 cl::CommandQueue Device::Impl::make_queue()
 {

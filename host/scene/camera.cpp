@@ -6,6 +6,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <limits>
 
 namespace clvis {
 
@@ -57,6 +58,21 @@ void check_pose(const Mat4& m)
     if (!(dot(cross(c0, c1), c2) > 0)) invalid("pose: the 3x3 part is a reflection, not a rotation");
 }
 
+/// The kernels take the camera in float32: a value that float32 cannot hold is out of range.
+constexpr double float_max = std::numeric_limits<float>::max();
+constexpr double float_min = std::numeric_limits<float>::min(); // smallest normal
+
+bool in_float_range(Vec3 v)
+{
+    return std::fabs(v.x) <= float_max && std::fabs(v.y) <= float_max && std::fabs(v.z) <= float_max;
+}
+
+void check_point(Vec3 v, const char* name)
+{
+    if (!is_finite(v)) invalid(std::string(name) + " is not finite (" + vec(v) + ")");
+    if (!in_float_range(v)) invalid(std::string(name) + " is outside float32's range (" + vec(v) + ")");
+}
+
 } // namespace
 
 Intrinsics Intrinsics::from_opencv(double fx, double fy, double cx_cv, double cy_cv)
@@ -104,6 +120,7 @@ Camera Camera::perspective(Vec3 eye, Vec3 target, Vec3 up, double fov_y_degrees,
 {
     Camera c = placed(eye, target, up, Projection::Perspective, near, far);
     c.fov_y = fov_y_degrees;
+    c.validate();
     return c;
 }
 
@@ -111,6 +128,7 @@ Camera Camera::orthographic(Vec3 eye, Vec3 target, Vec3 up, double height, doubl
 {
     Camera c = placed(eye, target, up, Projection::Orthographic, near, far);
     c.ortho_height = height;
+    c.validate();
     return c;
 }
 
@@ -154,9 +172,9 @@ Camera Camera::framing(const Bounds& b, Projection projection)
 
 void Camera::validate() const
 {
-    if (!is_finite(eye)) invalid("eye is not finite (" + vec(eye) + ")");
-    if (!is_finite(target)) invalid("target is not finite (" + vec(target) + ")");
-    if (!is_finite(up)) invalid("up is not finite (" + vec(up) + ")");
+    check_point(eye, "eye");
+    check_point(target, "target");
+    check_point(up, "up");
     Vec3 view = target - eye;
     double view_len = length(view);
     if (!(view_len > 0)) invalid("eye equals target (" + vec(eye) + ")");
@@ -166,8 +184,10 @@ void Camera::validate() const
     if (!(length(cross(f, up * (1 / up_len))) > 1e-9))
         invalid("up (" + vec(up) + ") is parallel to the view direction");
     if (!std::isfinite(near) || !(near > 0)) invalid("near must be a finite view depth > 0, got " + number(near));
+    if (!(near >= float_min)) invalid("near " + number(near) + " is below float32's smallest normal number");
     if (!std::isfinite(far) || !(far > near))
         invalid("far must be finite and greater than near (" + number(near) + "), got " + number(far));
+    if (!(far <= float_max)) invalid("far " + number(far) + " is outside float32's range");
     if (intrinsics) {
         const Intrinsics& k = *intrinsics;
         if (projection != Projection::Perspective) invalid("intrinsics need a perspective camera");
@@ -178,8 +198,12 @@ void Camera::validate() const
     } else if (projection == Projection::Perspective) {
         if (!std::isfinite(fov_y) || !(fov_y > 0 && fov_y < 180))
             invalid("fov must lie in (0, 180) degrees, got " + number(fov_y));
+        if (!(std::tan(fov_y / 2 * pi / 180) >= float_min))
+            invalid("fov " + number(fov_y) + " is too small for float32");
     } else if (!std::isfinite(ortho_height) || !(ortho_height > 0)) {
         invalid("ortho height must be > 0, got " + number(ortho_height));
+    } else if (!(ortho_height / 2 >= float_min && ortho_height <= float_max)) {
+        invalid("ortho height " + number(ortho_height) + " is outside float32's range");
     }
 }
 

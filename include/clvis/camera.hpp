@@ -58,6 +58,8 @@ struct Camera {
     /// the image size only decides how much of it is seen.
     std::optional<Intrinsics> intrinsics;
 
+    /// The factories validate() what they make: a NaN or out-of-range value is refused here,
+    /// with the field named, not when the camera is first used.
     static Camera perspective(Vec3 eye, Vec3 target, Vec3 up, double fov_y_degrees, double near,
                               double far);
     static Camera orthographic(Vec3 eye, Vec3 target, Vec3 up, double height, double near,
@@ -88,7 +90,10 @@ struct Camera {
 
     /// Throws Error(InvalidArgument) naming the first bad field: non-finite values, eye equal
     /// to target, up parallel to the view direction, near <= 0, far <= near, fov outside
-    /// (0, 180), ortho height <= 0, intrinsics with fx or fy <= 0 or on an orthographic camera.
+    /// (0, 180), ortho height <= 0, intrinsics with fx or fy <= 0 or on an orthographic camera,
+    /// and values the kernels' float32 cannot hold (coordinates or far beyond FLT_MAX, near or the
+    /// canvas below FLT_MIN). The factories call it; a Camera whose fields are set by hand is
+    /// checked here and again by every render.
     void validate() const;
 
     CameraFrame frame() const;

@@ -4,12 +4,19 @@
 // own command queue on it, unless the Device wraps a caller's queue.
 #pragma once
 
-#include <CL/cl.h>
-
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
+
+// The OpenCL handles of the API, declared exactly as <CL/cl.h> declares them (a repeated identical
+// typedef is valid C++), so that these headers neither include <CL/cl.h> nor choose an OpenCL
+// version for the caller: <CL/cl.h> or <CL/opencl.hpp>, with the caller's own
+// CL_TARGET_OPENCL_VERSION, may come before or after <clvis/clvis.hpp>.
+typedef struct _cl_context* cl_context;
+typedef struct _cl_command_queue* cl_command_queue;
+typedef struct _cl_device_id* cl_device_id;
+typedef struct _cl_mem* cl_mem;
 
 namespace clvis {
 
@@ -42,7 +49,8 @@ std::vector<DeviceInfo> list_devices();
 
 class Device {
 public:
-    /// An empty handle; every accessor of an empty Device throws Error(InvalidArgument).
+    /// An empty handle, as is a moved-from Device: every accessor, and every object made from
+    /// it, throws Error(InvalidArgument) naming the call.
     Device() = default;
     explicit operator bool() const { return impl_ != nullptr; }
 
@@ -66,6 +74,8 @@ public:
 
     struct Impl;
     const std::shared_ptr<Impl>& impl() const { return impl_; }
+    /// The implementation; throws Error(InvalidArgument) naming `call` when the Device is empty.
+    Impl& checked(const char* call) const;
 
 private:
     explicit Device(std::shared_ptr<Impl> impl) : impl_(std::move(impl)) {}

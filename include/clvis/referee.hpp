@@ -162,7 +162,8 @@ public:
     /// `options` as the paths render with them (only `cull` changes an answer). Throws
     /// Error(InvalidArgument) for an invalid camera or a size <= 0. The scene is copied from.
     /// `tolerance` loosens CONVENTIONS.md's EPS and depth tolerance where float32 cannot honour
-    /// them; tighter or non-finite values throw Error(InvalidArgument).
+    /// them; tighter or non-finite values throw Error(InvalidArgument). A moved-from Referee throws
+    /// Error(InvalidArgument) naming the call from every member.
     Referee(const Scene& scene, const Camera& camera, int width, int height, const RenderOptions& options = {},
             RefereeTolerance tolerance = {});
     ~Referee();
@@ -194,6 +195,7 @@ public:
     struct Impl;
 
 private:
+    const Impl& checked(const char* call) const;
     std::unique_ptr<Impl> impl_;
 };
 

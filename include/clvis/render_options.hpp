@@ -56,7 +56,11 @@ struct StageTiming {
 
 struct FrameTiming {
     double frame_ms = 0;             ///< host wall time from the first enqueue to finish
-    std::vector<StageTiming> stages; ///< in pipeline order
+    std::vector<StageTiming> stages; ///< in pipeline order; empty when !stages_measured
+    /// Whether the stage times were measured. False when the Renderer enqueues on a wrapped
+    /// queue made without CL_QUEUE_PROFILING_ENABLE: the stage times are then absent (not
+    /// zero), and only frame_ms is known.
+    bool stages_measured = false;
 };
 
 struct BvhStats {

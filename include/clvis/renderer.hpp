@@ -23,6 +23,7 @@ public:
     /// Uploads the scene to the device and builds the kernels (from the program cache when
     /// possible). Throws Error(Limit) when the scene exceeds the device's memory,
     /// Error(Build) with the build log when a kernel fails to build.
+    /// A moved-from Renderer throws Error(InvalidArgument) naming the call from every member.
     Renderer(Device device, const Scene& scene, RenderOptions options = {});
     ~Renderer();
     Renderer(Renderer&&) noexcept;
@@ -52,6 +53,7 @@ public:
 
 private:
     friend struct detail::RendererAccess;
+    Impl& checked(const char* call) const;
     std::unique_ptr<Impl> impl_;
 };
 

@@ -7,8 +7,6 @@
 #include <clvis/device.hpp>
 #include <clvis/host_visibility.hpp>
 
-#include <CL/cl.h>
-
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -17,11 +15,19 @@ namespace clvis {
 
 class VisibilityBuffer {
 public:
+    /// An empty buffer, as is a moved-from one: 0x0, empty(); keys(), read_keys() and read()
+    /// throw Error(InvalidArgument) naming the call. Copies share the device buffer.
     VisibilityBuffer() = default;
+    VisibilityBuffer(const VisibilityBuffer&) = default;
+    VisibilityBuffer& operator=(const VisibilityBuffer&) = default;
+    VisibilityBuffer(VisibilityBuffer&& other) noexcept;
+    VisibilityBuffer& operator=(VisibilityBuffer&& other) noexcept;
     /// Allocates width * height keys on the device. Throws Error(InvalidArgument) for sizes
     /// <= 0 and Error(Limit) when the buffer exceeds the device's largest allocation.
     VisibilityBuffer(const Device& device, int width, int height);
-    /// Wraps a caller's buffer of at least width * height cl_ulong (retained).
+    /// Wraps a caller's buffer of at least width * height cl_ulong (retained). Throws
+    /// Error(InvalidArgument) for an empty Device, a null or invalid cl_mem, a buffer made in
+    /// another OpenCL context than the Device's, or one too small.
     static VisibilityBuffer wrap(const Device& device, cl_mem keys, int width, int height);
 
     int width() const { return width_; }
