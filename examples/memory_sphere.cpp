@@ -3,9 +3,10 @@
 // would hand it to its own kernels. No copy through clvis.
 //
 //   memory_sphere [TRIANGLES]
-#include <clvis/clvis.hpp>
-
+#define CL_TARGET_OPENCL_VERSION 120 // the application's choice: clvis's headers make none
 #include <CL/cl.h>
+
+#include <clvis/clvis.hpp>
 
 #include <cstdio>
 #include <cstdlib>
