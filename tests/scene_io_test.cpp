@@ -514,6 +514,56 @@ TEST_CASE("a views file gives cameras of one size; {view} names are zero-padded"
     CHECK(view_file_name("v{view}", 120, 1000) == "v0120");
 }
 
+TEST_CASE("a scene file describes every camera the flags can, physical included", "[io]")
+{
+    fs::create_directories(temp_dir() / "scene");
+    write_file("scene/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    auto camera_of = [](const std::string& camera, const std::string& size = "") {
+        std::string json = R"({"meshes": [{"file": "tri.obj"}], "camera": )" + camera + size + "}";
+        SceneFile f = load_scene_file(write_file("scene/camera.json", json));
+        REQUIRE(f.camera.has_value());
+        return *f.camera;
+    };
+    const Vec3 eye{0, 0, 5}, target{0, 0, 0}, up{0, 1, 0};
+    const std::string look = R"("eye": [0, 0, 5], "target": [0, 0, 0], )";
+    // The physical camera at the file's own aspect (100x50 = 2), and at the default 1920x1080.
+    Camera physical = camera_of("{" + look + R"("focal_length": 50, "film_gate": [36, 24], "fit": "overscan", )"
+                                R"("near": 1, "far": 9})", R"(, "width": 100, "height": 50)");
+    Camera expected = Camera::physical(eye, target, up, 50, 36, 24, FilmFit::Overscan, 2.0, 1, 9);
+    CHECK(physical.fov_y == Approx(expected.fov_y).epsilon(1e-12));
+    Camera fill = camera_of("{" + look + R"("focal_length": 50, "film_gate": [36, 24], "near": 1, "far": 9})");
+    CHECK(fill.fov_y == Approx(Camera::physical(eye, target, up, 50, 36, 24, FilmFit::Fill, 1920.0 / 1080, 1, 9).fov_y));
+    // No eye and target: the framing camera, orthographic with "ortho": true, with given fields.
+    Scene tri;
+    tri.add_mesh(load_mesh((temp_dir() / "scene" / "tri.obj").string()));
+    Camera framing_ortho = Camera::framing(tri.bounds(), Projection::Orthographic);
+    Camera ortho = camera_of(R"({"ortho": true})");
+    CHECK(ortho.projection == Projection::Orthographic);
+    CHECK(ortho.ortho_height == framing_ortho.ortho_height);
+    CHECK(ortho.eye.z == framing_ortho.eye.z);
+    Camera narrow = camera_of(R"({"fov": 20, "near": 0.25})");
+    CHECK(narrow.fov_y == 20);
+    CHECK(narrow.near == 0.25);
+    CHECK(narrow.eye.x == Camera::framing(tri.bounds()).eye.x);
+    // Every camera field that the tool's flags take, a scene file takes under the same name.
+    for (const CameraField& field : camera_fields()) {
+        INFO(field.name);
+        std::string value = field.numbers == 0 ? "\"overscan\"" : field.numbers == 1 ? "2" : "[";
+        for (int i = 0; field.numbers > 1 && i < field.numbers; ++i) value += (i ? ", " : "") + std::string("3");
+        if (field.numbers > 1) value += "]";
+        std::string json = std::string(R"({"meshes": [{"file": "tri.obj"}], "camera": {")") + field.name + "\": " +
+                           value + "}}";
+        std::string msg;
+        try {
+            load_scene_file(write_file("scene/field.json", json));
+        } catch (const Error& e) {
+            msg = e.what();
+        }
+        CHECK(msg.find("not a camera field") == std::string::npos);
+        CHECK(msg.find("expected") == std::string::npos);
+    }
+}
+
 TEST_CASE("bad scene files name the file and the JSON path of the bad field", "[io]")
 {
     fs::create_directories(temp_dir() / "scene");
@@ -540,20 +590,30 @@ TEST_CASE("bad scene files name the file and the JSON path of the bad field", "[
         {R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [0, 0], "target": [0, 0, 0]}})",
          "camera.eye: expected 3 numbers"},
         {R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [0, 0, 1], "target": [0, 0, 0], "fov": 30, "ortho": 2}})",
-         "camera: give either fov or ortho"},
+         "camera.fov: give one projection"},
         {R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [0, 0, 1], "target": [0, 0, 0], "near": -1}})",
-         "camera: "},
-        {R"({"meshes": [{"file": "tri.obj"}], "camera": {"target": [0, 0, 0]}})", "camera.eye: missing"},
+         "camera.near: "},
+        {R"({"meshes": [{"file": "tri.obj"}], "camera": {"target": [0, 0, 0]}})", "camera.eye: is needed with"},
+        {R"({"meshes": [{"file": "tri.obj"}], "camera": {"fob": 30}})", "camera.fob: not a camera field"},
+        {R"({"meshes": [{"file": "tri.obj"}], "camera": {"ortho": 0}})", "camera.ortho: the view height must be > 0"},
+        {R"({"meshes": [{"file": "tri.obj"}], "camera": {"ortho": false}})", "camera.ortho: expected a number"},
+        {R"({"meshes": [{"file": "tri.obj"}], "camera": {"fit": "wide"}})", "camera.fit: expected fill or overscan"},
+        {R"({"meshes": [{"file": "tri.obj"}], "camera": {"fit": "fill"}})", "camera.fit: applies to the physical"},
+        {R"({"meshes": [{"file": "tri.obj"}], "camera": {"focal_length": 35}})",
+         "camera.film_gate: is needed with camera.focal_length"},
+        {R"({"meshes": [{"file": "tri.obj"}], "camera": {"film_gate": [36, 0], "focal_length": 35}})",
+         "camera.film_gate: the gate's height must be > 0"},
+        {R"({"meshes": [{"file": "tri.obj"}], "camera": {"fov": [30, 40]}})", "camera.fov: expected 1 number"},
         {R"({"meshes": [{"file": "tri.obj"}], "camera": {"pose": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1], "eye": [0, 0, 1]}})",
-         "camera.eye: give either pose or eye"},
+         "camera.pose: replaces camera.eye"},
         {R"({"meshes": [{"file": "tri.obj"}], "camera": {"pose": [2,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]}})",
-         "camera.pose: camera: pose: the 3x3 part is not orthonormal"},
+         "camera.pose: pose: the 3x3 part is not orthonormal"},
         {R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [0, 0, 1], "target": [0, 0, 0], "intrinsics": [1, 1, 0]}})",
          "camera.intrinsics: expected 4 numbers"},
         {R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [0, 0, 1], "target": [0, 0, 0], "intrinsics": [1, 1, 0, 0], "fov": 3}})",
-         "camera.intrinsics: replaces fov and ortho"},
+         "camera.intrinsics: replaces camera.fov"},
         {R"({"meshes": [{"file": "tri.obj"}], "camera": {"eye": [0, 0, 1], "target": [0, 0, 0], "intrinsics": [-1, 1, 0, 0]}})",
-         "camera: camera: intrinsics: fx and fy must be"},
+         "camera.intrinsics: fx must be > 0"},
         {R"({"meshes": [{"file": "tri.obj"}], "width": 640.5})", "width: expected an integer"},
         {R"({"meshes": [{"file": "tri.obj"}], "height": 0})", "height: expected an integer"},
         {R"({"meshes": [{"file": "tri.obj"}],)", "invalid JSON"},

@@ -19,10 +19,10 @@ namespace clvis::cli {
 
 namespace {
 
-/// Exit statuses of clvis compare.
-constexpr int exit_agree = 0;    ///< no unacceptable answer
-constexpr int exit_errors = 1;   ///< the referee rejected at least one answer
-constexpr int exit_unusable = 2; ///< bad flags, unreadable files, sizes that do not match
+/// Exit statuses of clvis compare (those of every subcommand, commands.hpp).
+constexpr int exit_agree = exit_ok;      ///< no unacceptable answer
+constexpr int exit_errors = exit_rejected; ///< the referee rejected at least one answer
+constexpr int exit_unusable = exit_usage;  ///< bad flags, unreadable files, sizes that do not match
 
 struct CompareArgs {
     std::string first, second;
@@ -40,7 +40,7 @@ const char* description =
     "Judge two id buffers (and with --depths their depth buffers) with the referee of CONVENTIONS.md, "
     "every pixel of both: counts of equal pixels, of explained mismatches (both answers acceptable) "
     "and of errors, which add up to the pixels (the same for depths), and the first errors one per "
-    "line. Give the meshes, camera flags and --cull the buffers were rendered with; --width/--height "
+    "line. Give the meshes (or scene file), camera flags and --cull the buffers were rendered with; --width/--height "
     "default to the buffers' size. Exit status 0: no error, 1: errors, 2: unusable input.\n"
     "Example: clvis compare raster.tif ray.tif scenes/spot.obj --eye 0,1,3 --target 0,0,0 --fov 40";
 
@@ -97,7 +97,7 @@ std::pair<std::string, std::string> depth_files(const std::string& flag)
     return {flag.substr(0, comma), flag.substr(comma + 1)};
 }
 
-Inputs read_inputs(const CLI::App& app, const CompareArgs& args)
+Inputs read_inputs(const CompareArgs& args)
 {
     Inputs in;
     auto [depth_a, depth_b] = depth_files(args.depths);
@@ -107,16 +107,10 @@ Inputs read_inputs(const CLI::App& app, const CompareArgs& args)
         unusable("the buffers differ in size: " + args.first + " is " + std::to_string(in.a.width) + "x" +
                  std::to_string(in.a.height) + ", " + args.second + " " + std::to_string(in.b.width) + "x" +
                  std::to_string(in.b.height));
-    CameraOptions cam = args.camera;
-    for (auto [flag, given, size] : {std::tuple{"--width", cam.width, in.a.width}, {"--height", cam.height, in.a.height}})
-        if (app.count(flag) > 0 && given != size)
-            unusable(std::string(flag) + ": " + std::to_string(given) + " does not match the buffers (" +
-                     std::to_string(in.a.width) + "x" + std::to_string(in.a.height) + ")");
-    cam.width = in.a.width;
-    cam.height = in.a.height;
     in.file = args.scene.load();
-    in.camera = cam.resolve(in.file.scene, in.file.camera);
-    in.framed = cam.framed(in.file.camera);
+    View view = resolve_view(args.camera, in.file, args.scene.scene_file(), std::pair{in.a.width, in.a.height});
+    in.camera = view.camera;
+    in.framed = view.framed;
     return in;
 }
 
@@ -138,12 +132,12 @@ nlohmann::json verdict_json(const PixelVerdict& v)
     return j;
 }
 
-int run_compare(const CLI::App& app, const CompareArgs& args)
+int run_compare(const CompareArgs& args)
 {
     Inputs in;
     CompareReport r;
     try {
-        in = read_inputs(app, args);
+        in = read_inputs(args);
         if (args.all && args.differing_only) unusable("--all and --differing-only exclude each other");
         RenderOptions render;
         render.cull = args.cull == "back" ? Cull::Back : args.cull == "front" ? Cull::Front : Cull::None;
@@ -153,7 +147,7 @@ int run_compare(const CLI::App& app, const CompareArgs& args)
         options.max_reported = args.max_reported;
         r = referee.compare(in.a, in.b, options);
     } catch (const Error& e) {
-        std::cerr << "clvis compare: " << e.what() << "\n";
+        std::cerr << "clvis: compare: " << e.what() << "\n";
         return exit_unusable;
     }
     if (in.framed && !args.json) std::cerr << "clvis: framing camera: " << in.camera.to_flags() << "\n";
@@ -208,10 +202,9 @@ int compare_main(const std::vector<std::string>& given)
     try {
         app.parse(reversed);
     } catch (const CLI::ParseError& e) {
-        int code = app.exit(e); // prints help (status 0) or the error naming the flag
-        return code == 0 ? exit_agree : exit_unusable;
+        return report_parse_error(app, e); // the help (status 0), or the error naming the flag
     }
-    return run_compare(app, args);
+    return run_compare(args);
 }
 
 } // namespace

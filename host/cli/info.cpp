@@ -1,6 +1,8 @@
 // clvis info: what a mesh file holds (triangles, vertices, bounds, load time; for glTF also its
-// items, shared meshes and what was skipped), or why it is bad.
+// items, shared meshes and what was skipped), or what a scene file describes (its meshes, the
+// camera and image size that render would use), or why it is bad.
 #include "commands.hpp"
+#include "options.hpp"
 
 #include <clvis/clvis.hpp>
 
@@ -16,6 +18,11 @@ namespace clvis::cli {
 
 namespace {
 
+void print_bounds(const Bounds& b, const char* label)
+{
+    std::printf("    %-10s [%g, %g, %g] .. [%g, %g, %g]\n", label, b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
+}
+
 bool is_gltf(const std::string& path)
 {
     std::string ext = std::filesystem::path(path).extension().string();
@@ -23,37 +30,62 @@ bool is_gltf(const std::string& path)
     return ext == ".gltf" || ext == ".glb";
 }
 
+void mesh_info(const std::string& path)
+{
+    auto t0 = std::chrono::steady_clock::now();
+    std::optional<GltfScene> gltf;
+    Scene scene;
+    if (is_gltf(path)) {
+        gltf = load_gltf(path);
+        add_gltf(scene, *gltf);
+    } else {
+        scene.add_mesh(load_mesh(path));
+    }
+    double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    bool normals = !gltf && !scene.meshes().front().data.normals.empty();
+    std::printf("%s\n", path.c_str());
+    std::printf("    triangles  %zu\n", scene.triangle_count());
+    std::printf("    vertices   %zu%s\n", scene.vertex_count(), normals ? " (with normals)" : "");
+    if (gltf) {
+        std::printf("    glTF       %zu items of %zu meshes\n", gltf->items.size(), gltf->meshes.size());
+        for (const std::string& note : gltf->notes) std::printf("    note       %s\n", note.c_str());
+    }
+    print_bounds(scene.bounds(), "bounds");
+    std::printf("    load       %.1f ms\n", ms);
+}
+
+/// A scene file as render reads it: with no flags, this size and this camera.
+void scene_file_info(const std::string& path)
+{
+    auto t0 = std::chrono::steady_clock::now();
+    SceneFile file = load_scene_file(path);
+    double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    View view = resolve_view(CameraOptions{}, file, path);
+    std::printf("%s (scene file)\n", path.c_str());
+    for (const auto& m : file.scene.meshes())
+        std::printf("    mesh       %s: %zu triangles%s\n", m.data.name.c_str(), m.data.triangle_count(),
+                    m.transform.is_identity() ? "" : ", transformed");
+    std::printf("    triangles  %zu\n", file.scene.triangle_count());
+    std::printf("    vertices   %zu\n", file.scene.vertex_count());
+    print_bounds(file.scene.bounds(), "bounds");
+    std::printf("    size       %dx%d%s\n", view.width, view.height,
+                file.width || file.height ? "" : " (not given: the default)");
+    std::printf("    camera     %s%s\n", view.framed ? "framing: " : "", view.camera.to_flags().c_str());
+    std::printf("    load       %.1f ms\n", ms);
+}
+
 } // namespace
 
 void add_info_command(CLI::App& app)
 {
-    auto* cmd = app.add_subcommand("info", "Load mesh files and report what each holds.\n"
+    auto* cmd = app.add_subcommand("info", "Load mesh files or scene files and report what each holds.\n"
                                            "Example: clvis info scenes/stanford-bunny.obj scenes/spot.obj");
     auto files = std::make_shared<std::vector<std::string>>();
-    cmd->add_option("files", *files, "mesh files (OBJ, PLY, STL, glTF 2.0: .gltf, .glb)")->required();
+    cmd->add_option("files", *files, "mesh files (OBJ, PLY, STL, glTF 2.0: .gltf, .glb) or scene files (.json)")->required();
     cmd->callback([files] {
         for (const auto& path : *files) {
-            auto t0 = std::chrono::steady_clock::now();
-            std::optional<GltfScene> gltf;
-            Scene scene;
-            if (is_gltf(path)) {
-                gltf = load_gltf(path);
-                add_gltf(scene, *gltf);
-            } else {
-                scene.add_mesh(load_mesh(path));
-            }
-            double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-            bool normals = !gltf && !scene.meshes().front().data.normals.empty();
-            Bounds b = scene.bounds();
-            std::printf("%s\n", path.c_str());
-            std::printf("    triangles  %zu\n", scene.triangle_count());
-            std::printf("    vertices   %zu%s\n", scene.vertex_count(), normals ? " (with normals)" : "");
-            if (gltf) {
-                std::printf("    glTF       %zu items of %zu meshes\n", gltf->items.size(), gltf->meshes.size());
-                for (const std::string& note : gltf->notes) std::printf("    note       %s\n", note.c_str());
-            }
-            std::printf("    bounds     [%g, %g, %g] .. [%g, %g, %g]\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
-            std::printf("    load       %.1f ms\n", ms);
+            if (is_scene_file(path)) scene_file_info(path);
+            else mesh_info(path);
         }
     });
 }

@@ -11,9 +11,11 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <functional>
 #include <iostream>
+#include <tuple>
 
 namespace clvis::cli {
 
@@ -34,6 +36,7 @@ struct RenderArgs {
     int leaf = 4;
     bool json = false;
     bool quiet = false;
+    int width = 0, height = 0; ///< the image size, once resolved
 };
 
 /// "out.png" -> "out-ray.png" when several paths write files.
@@ -141,12 +144,18 @@ struct PathResult {
 
 using NameFn = std::function<std::string(const std::string&)>;
 
-/// Every file one visibility buffer gives: ids, depth, image, attributes and the visible set.
-/// `host` receives the buffer read back when ids or depth are written (or when given non-null
-/// and `need_host`).
+/// Every file one visibility buffer gives: ids, depth, image, attributes and the visible set,
+/// each named by `say` once written. `host` receives the buffer read back when ids or depth are
+/// written (or when `need_host`).
 void write_outputs(Renderer& renderer, const VisibilityBuffer& vis, const Camera& camera, const RenderArgs& a,
-                   const NameFn& file_name, std::uint32_t triangles, HostVisibility& host, bool need_host)
+                   const NameFn& name_of, std::uint32_t triangles, HostVisibility& host, bool need_host,
+                   const std::function<void(const std::string&)>& say)
 {
+    std::vector<std::string> written;
+    NameFn file_name = [&](const std::string& f) {
+        written.push_back(name_of(f));
+        return written.back();
+    };
     if (need_host || !a.ids.empty() || !a.depth.empty()) vis.read(host);
     write_attributes(renderer, vis, camera, a, file_name);
     write_visible(renderer, vis, a.visible.empty() ? a.visible : file_name(a.visible), triangles);
@@ -164,11 +173,43 @@ void write_outputs(Renderer& renderer, const VisibilityBuffer& vis, const Camera
     if (!a.depth.empty()) no_image_io("--depth");
     if (!a.image.empty()) no_image_io("--image");
 #endif
+    for (const std::string& f : written) say("clvis: wrote " + f);
+}
+
+/// Refuses output files of a kind that cannot be written, before anything is rendered.
+void check_outputs(const RenderArgs& a)
+{
+#if CLVIS_WITH_IMAGE_IO
+    auto extension = [](const std::string& file) {
+        auto dot = file.find_last_of('.');
+        auto slash = file.find_last_of('/');
+        if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return std::string();
+        std::string e = file.substr(dot + 1);
+        std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+        return e;
+    };
+    auto join = [](const std::vector<std::string>& v) {
+        std::string s;
+        for (const auto& e : v) s += (s.empty() ? "." : ", .") + e;
+        return s;
+    };
+    for (auto [flag, file, allowed] : {std::tuple{"--ids", a.ids, id_extensions()},
+                                       {"--depth", a.depth, depth_extensions()},
+                                       {"--image", a.image, image_extensions()}}) {
+        std::string ext = extension(file);
+        if (!file.empty() && std::find(allowed.begin(), allowed.end(), ext) == allowed.end())
+            throw Error(Error::Kind::InvalidArgument, std::string(flag) + ": cannot write '" + file +
+                                                          "': the formats written are " + join(allowed));
+    }
+#else
+    (void)a;
+#endif
 }
 
 /// Renders one camera (or, with `views`, every view as one batch) `repeat` times after a warm-up.
 PathResult run_path(Renderer& renderer, const std::vector<Camera>& cameras, const RenderArgs& a, int width,
-                    int height, Path path, bool several, bool need_host, std::uint32_t triangles)
+                    int height, Path path, bool several, bool need_host, std::uint32_t triangles,
+                    const std::function<void(const std::string&)>& say)
 {
     PathResult r;
     r.path = path;
@@ -199,7 +240,7 @@ PathResult run_path(Renderer& renderer, const std::vector<Camera>& cameras, cons
     }
     std::string name = to_string(path);
     if (!batch) {
-        write_outputs(renderer, vis, cameras[0], a, with_suffix_of(name, several), triangles, r.vis, need_host);
+        write_outputs(renderer, vis, cameras[0], a, with_suffix_of(name, several), triangles, r.vis, need_host, say);
         return r;
     }
     HostVisibility host;
@@ -207,12 +248,14 @@ PathResult run_path(Renderer& renderer, const std::vector<Camera>& cameras, cons
     for (int v = 0; v <= last; ++v)
         write_outputs(renderer, views.view(v), cameras[std::size_t(v)], a,
                       [&](const std::string& f) { return view_file_name(with_suffix(f, name, several), v, last); },
-                      triangles, host, false);
+                      triangles, host, false, say);
     return r;
 }
 
+/// Stage times by name; null when the queue gave none (FrameTiming::stages_measured).
 nlohmann::json stages_json(const FrameTiming& t)
 {
+    if (!t.stages_measured) return nullptr;
     nlohmann::json s = nlohmann::json::object();
     for (const auto& st : t.stages) s[st.name] = st.ms;
     return s;
@@ -230,6 +273,7 @@ std::string path_line(const PathResult& r, int repeat)
         std::snprintf(buf, sizeof buf, "frame %.2f ms (first frame: includes the driver's first-launch "
                                        "compilation; --repeat N times warm frames)", r.samples[0]);
     line += buf;
+    if (!r.fastest.stages_measured) line += "; stage times absent (queue without profiling)";
     for (const auto& st : r.fastest.stages) {
         std::snprintf(buf, sizeof buf, "; %s %.2f", st.name.c_str(), st.ms);
         line += buf;
@@ -243,10 +287,10 @@ std::string path_line(const PathResult& r, int repeat)
 
 /// The referee's verdict on raster against ray, said on standard error and returned as JSON.
 template <class Say>
-nlohmann::json compare_paths(const SceneFile& file, const Camera& camera, const CameraOptions& cam_opts,
+nlohmann::json compare_paths(const SceneFile& file, const Camera& camera, const RenderArgs& a,
                              const RenderOptions& options, const std::vector<PathResult>& results, Say say)
 {
-    Referee referee(file.scene, camera, cam_opts.width, cam_opts.height, options);
+    Referee referee(file.scene, camera, a.width, a.height, options);
     CompareReport rep = referee.compare(results[0].vis, results[1].vis);
     char buf[320];
     std::snprintf(buf, sizeof buf, "clvis: raster vs ray: %zu pixels, %zu equal, %zu explained, %zu errors "
@@ -281,15 +325,15 @@ nlohmann::json path_json(const PathResult& r)
 }
 
 /// --json: one object on standard output.
-nlohmann::json render_json(const RenderArgs& a, const SceneFile& file, const CameraOptions& cam_opts,
+nlohmann::json render_json(const RenderArgs& a, const SceneFile& file,
                            const Camera& camera, const Device& device, double load_ms,
                            const std::vector<PathResult>& results, const nlohmann::json& compare_json)
 {
     bool several = results.size() > 1;
     nlohmann::json j = several ? nlohmann::json{{"path", "all"}} : path_json(results[0]);
     j["triangles"] = file.scene.triangle_count();
-    j["width"] = cam_opts.width;
-    j["height"] = cam_opts.height;
+    j["width"] = a.width;
+    j["height"] = a.height;
     j["device"] = device.info().name;
     j["load_ms"] = load_ms;
     j["warm_up"] = a.repeat > 0;
@@ -312,23 +356,22 @@ RenderOptions render_options(const RenderArgs& a)
     return options;
 }
 
-void render_command(const RenderArgs& a)
+void render_command(RenderArgs a)
 {
+    check_outputs(a);
     double load_ms = 0;
     SceneFile file = a.scene.load(&load_ms);
-    CameraOptions cam_opts = a.camera;
-    if (file.width > 0 && cam_opts.width == 1920 && cam_opts.height == 1080) {
-        cam_opts.width = file.width;
-        cam_opts.height = file.height;
-    }
+    View view = resolve_view(a.camera, file, a.scene.scene_file());
     std::vector<Camera> cameras;
     if (!a.views.empty()) {
         ViewsFile vf = load_views_file(a.views);
-        cam_opts.width = vf.width;
-        cam_opts.height = vf.height;
+        view.width = vf.width;
+        view.height = vf.height;
         cameras = vf.views;
     }
-    Camera camera = cameras.empty() ? cam_opts.resolve(file.scene, file.camera) : cameras[0];
+    a.width = view.width;
+    a.height = view.height;
+    const Camera camera = cameras.empty() ? view.camera : cameras[0];
     if (cameras.empty()) cameras.push_back(camera);
     if (file.scene.empty()) throw Error(Error::Kind::InvalidArgument, "the scene holds no triangles");
     if (a.ao > 0 && a.image.empty()) throw Error(Error::Kind::InvalidArgument, "--ao: needs --image FILE to write");
@@ -347,22 +390,24 @@ void render_command(const RenderArgs& a)
     say("clvis: " + std::to_string(file.scene.triangle_count()) + " triangles from " +
         std::to_string(a.scene.files.size()) + " file(s) in " + std::to_string(int(load_ms + 0.5)) + " ms; device " +
         device.info().name);
-    if (a.views.empty() && cam_opts.framed(file.camera)) say("clvis: framing camera: " + camera.to_flags());
+    if (a.views.empty() && view.framed) say("clvis: framing camera: " + camera.to_flags());
     Renderer renderer(device, file.scene, render_options(a));
 
     std::vector<PathResult> results;
     for (Path p : paths) {
-        results.push_back(run_path(renderer, cameras, a, cam_opts.width, cam_opts.height, p, several, several,
-                                   std::uint32_t(file.scene.triangle_count())));
+        results.push_back(run_path(renderer, cameras, a, a.width, a.height, p, several, several,
+                                   std::uint32_t(file.scene.triangle_count()), say));
         say(path_line(results.back(), a.repeat));
     }
     nlohmann::json compare_json;
-    if (several) compare_json = compare_paths(file, camera, cam_opts, render_options(a), results, say);
+    if (several) compare_json = compare_paths(file, camera, a, render_options(a), results, say);
     if (a.json)
-        std::cout << render_json(a, file, cam_opts, camera, device, load_ms, results, compare_json).dump(2) << "\n";
+        std::cout << render_json(a, file, camera, device, load_ms, results, compare_json).dump(2) << "\n";
     if (several && (compare_json["errors"].get<std::size_t>() > 0 ||
-                    compare_json["depths"]["errors"].get<std::size_t>() > 0))
-        throw Error(Error::Kind::InvalidArgument, "the referee rejected ids or depths of a path (see above)");
+                    compare_json["depths"]["errors"].get<std::size_t>() > 0)) {
+        std::cerr << "clvis: the referee rejected ids or depths of a path (see above)\n";
+        throw CLI::RuntimeError(exit_rejected); // main returns the status
+    }
 }
 
 } // namespace
@@ -387,7 +432,7 @@ void add_render_command(CLI::App& app)
     cmd->add_option("--views", args->views,
                     "render every camera of a views file (JSON) in one batch; {view} in output names is the view");
     cmd->add_option("--visible", args->visible, "write the visible triangle ids, one per line, ascending");
-    cmd->add_option("--image", args->image, "write a shaded colour image (.png, .exr, ...)");
+    cmd->add_option("--image", args->image, "write a shaded colour image (.png, .exr, .tif, .jpg, ...)");
     cmd->add_option("--shade", args->shade, "colour image: lambert, depth or ids")
         ->check(CLI::IsMember({"lambert", "depth", "ids"}));
     cmd->add_option("--ao", args->ao, "with --image: an ambient-occlusion image of N rays per pixel (seeded)")

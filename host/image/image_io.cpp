@@ -54,13 +54,59 @@ void read_channel(OIIO::ImageInput& in, const std::string& path, OIIO::TypeDesc 
     in.close();
 }
 
+std::vector<std::string> split(const std::string& text, char sep)
+{
+    std::vector<std::string> out;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        std::size_t end = text.find(sep, start);
+        if (end == std::string::npos) end = text.size();
+        if (end > start) out.push_back(text.substr(start, end - start));
+        start = end + 1;
+    }
+    return out;
+}
+
+std::string listed(const std::vector<std::string>& extensions)
+{
+    std::string s;
+    for (const auto& e : extensions) s += (s.empty() ? "." : ", .") + e;
+    return s;
+}
+
+/// Whether `path`'s extension (any case) is one of `extensions` (lowercase, no dot).
+bool has_extension(const std::string& path, const std::vector<std::string>& extensions)
+{
+    std::string ext = detail::lower_extension(path);
+    return !ext.empty() && std::find(extensions.begin(), extensions.end(), ext.substr(1)) != extensions.end();
+}
+
 } // namespace
+
+std::vector<std::string> id_extensions() { return {"exr", "tif", "tiff"}; }
+std::vector<std::string> depth_extensions() { return {"exr"}; }
+
+std::vector<std::string> image_extensions()
+{
+    // OpenImageIO's writers, and their extensions from its table "format:ext,ext;format:...";
+    // "null" and "term" write no file.
+    std::vector<std::string> writers = split(OIIO::get_string_attribute("output_format_list"), ',');
+    std::vector<std::string> out;
+    for (const std::string& entry : split(OIIO::get_string_attribute("extension_list"), ';')) {
+        std::size_t colon = entry.find(':');
+        std::string format = entry.substr(0, colon);
+        if (colon == std::string::npos || format == "null" || format == "term" ||
+            std::find(writers.begin(), writers.end(), format) == writers.end())
+            continue;
+        for (const std::string& ext : split(entry.substr(colon + 1), ',')) out.push_back(ext);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
 
 void write_ids(const std::string& path, const HostVisibility& vis)
 {
-    std::string ext = detail::lower_extension(path);
-    if (ext != ".tif" && ext != ".tiff" && ext != ".exr")
-        io_error(path, "id buffers are written as .tif, .tiff or .exr");
+    if (!has_extension(path, id_extensions())) io_error(path, "id buffers are written as " + listed(id_extensions()));
     if (vis.ids.size() != std::size_t(vis.width) * std::size_t(vis.height))
         io_error(path, "the id array does not match the image size");
     write_channels(path, vis.width, vis.height, {"id"}, OIIO::TypeDesc::UINT32, vis.ids.data());
@@ -68,7 +114,8 @@ void write_ids(const std::string& path, const HostVisibility& vis)
 
 void write_depth(const std::string& path, const HostVisibility& vis)
 {
-    if (detail::lower_extension(path) != ".exr") io_error(path, "depth buffers are written as .exr");
+    if (!has_extension(path, depth_extensions()))
+        io_error(path, "depth buffers are written as " + listed(depth_extensions()));
     if (vis.depth.size() != std::size_t(vis.width) * std::size_t(vis.height))
         io_error(path, "the depth array does not match the image size");
     write_channels(path, vis.width, vis.height, {"Z"}, OIIO::TypeDesc::FLOAT, vis.depth.data());
@@ -133,6 +180,8 @@ void write_image(const std::string& path, const Image& image)
     if (image.width <= 0 || image.height <= 0 ||
         image.rgba.size() != std::size_t(image.width) * std::size_t(image.height) * 4)
         io_error(path, "the image is empty or its pixels do not match its size");
+    if (!has_extension(path, image_extensions()))
+        io_error(path, "cannot write images of this kind; the formats written are " + listed(image_extensions()));
     auto out = OIIO::ImageOutput::create(path);
     if (!out) io_error(path, "cannot write this format: " + OIIO::geterror());
     OIIO::ImageSpec spec(image.width, image.height, 4, OIIO::TypeDesc::UINT8);

@@ -141,9 +141,10 @@ public:
                 bad(it.key(), "unknown field");
         SceneFile out;
         meshes(root, out.scene);
-        if (root.contains("camera")) out.camera = camera(root["camera"]);
+        if (root.contains("camera")) out.camera_spec = camera(root["camera"]);
         out.width = side(root, "width");
         out.height = side(root, "height");
+        if (!out.camera_spec.empty()) out.camera = resolve(out);
         return out;
     }
 
@@ -162,13 +163,23 @@ public:
             bad("views", "expected a non-empty array of cameras");
         const Json& views = root["views"];
         for (std::size_t i = 0; i < views.size(); ++i) {
+            std::string where = "views[" + std::to_string(i) + "]";
+            CameraSpec spec;
             try {
-                out.views.push_back(camera(views[i]));
+                spec = camera(views[i]);
             } catch (const Error& e) {
                 // camera() names its fields "camera.*": here they are "views[i].*".
                 std::string msg = e.what(), prefix = path_ + ": camera";
                 if (msg.rfind(prefix, 0) != 0) throw;
-                fail(path_, "views[" + std::to_string(i) + "]" + msg.substr(prefix.size()));
+                fail(path_, where + msg.substr(prefix.size()));
+            }
+            // A views file has no scene to frame: each view places its camera itself.
+            if (spec.framing()) bad(where, "eye and target, or pose, are needed");
+            try {
+                out.views.push_back(spec.resolve(Bounds{}, out.width, out.height,
+                                                 [&](const std::string& field) { return where + "." + field; }));
+            } catch (const Error& e) {
+                fail(path_, e.what());
             }
         }
         return out;
@@ -264,52 +275,45 @@ private:
         return t;
     }
 
-    Camera camera(const Json& j) const
+    /// The "camera" object, field by field through the one table of camera fields.
+    CameraSpec camera(const Json& j) const
     {
         if (!j.is_object()) bad("camera", "expected an object");
-        static const char* fields[] = {"eye", "target", "up", "fov", "ortho", "near", "far", "intrinsics", "pose"};
-        for (auto it = j.begin(); it != j.end(); ++it)
-            if (std::none_of(std::begin(fields), std::end(fields), [&](const char* f) { return it.key() == f; }))
-                bad("camera." + it.key(), "unknown field");
-        Camera c;
-        if (j.contains("pose")) {
-            for (const char* f : {"eye", "target", "up"})
-                if (j.contains(f)) bad(std::string("camera.") + f, "give either pose or eye, target and up");
-            std::vector<double> v = numbers(j["pose"], 16, "camera.pose");
-            Mat4 m;
-            std::copy(v.begin(), v.end(), m.m.begin());
-            try {
-                c = Camera::from_pose(m);
-            } catch (const Error& e) {
-                bad("camera.pose", e.what());
+        CameraSpec spec;
+        for (auto it = j.begin(); it != j.end(); ++it) {
+            std::string where = "camera." + it.key();
+            const Json& v = it.value();
+            CameraValue value;
+            if (v.is_number()) {
+                value.numbers.push_back(number(v, where));
+            } else if (v.is_array()) {
+                for (std::size_t i = 0; i < v.size(); ++i)
+                    value.numbers.push_back(number(v[i], where + "[" + std::to_string(i) + "]"));
+            } else if (v.is_string()) {
+                value.word = v.get<std::string>();
+            } else if (v.is_boolean() && v.get<bool>()) {
+                value.bare = true;
+            } else {
+                bad(where, "expected a number, an array of numbers or a word");
             }
-        } else {
-            if (!j.contains("eye")) bad("camera.eye", "missing");
-            if (!j.contains("target")) bad("camera.target", "missing");
-            c.eye = vec3(j["eye"], "camera.eye");
-            c.target = vec3(j["target"], "camera.target");
-            if (j.contains("up")) c.up = vec3(j["up"], "camera.up");
+            try {
+                set_camera_field(spec, it.key(), value, where);
+            } catch (const Error& e) {
+                fail(path_, e.what());
+            }
         }
-        if (j.contains("intrinsics") && (j.contains("fov") || j.contains("ortho")))
-            bad("camera.intrinsics", "replaces fov and ortho: give one of them");
-        if (j.contains("intrinsics")) {
-            std::vector<double> k = numbers(j["intrinsics"], 4, "camera.intrinsics");
-            c.intrinsics = Intrinsics{k[0], k[1], k[2], k[3]};
-        }
-        if (j.contains("fov") && j.contains("ortho")) bad("camera", "give either fov or ortho, not both");
-        if (j.contains("fov")) c.fov_y = number(j["fov"], "camera.fov");
-        if (j.contains("ortho")) {
-            c.projection = Projection::Orthographic;
-            c.ortho_height = number(j["ortho"], "camera.ortho");
-        }
-        if (j.contains("near")) c.near = number(j["near"], "camera.near");
-        if (j.contains("far")) c.far = number(j["far"], "camera.far");
+        return spec;
+    }
+
+    Camera resolve(const SceneFile& f) const
+    {
         try {
-            c.validate();
+            return f.camera_spec.resolve(f.scene.bounds(), f.width ? f.width : default_width,
+                                         f.height ? f.height : default_height,
+                                         [](const std::string& field) { return "camera." + field; });
         } catch (const Error& e) {
-            bad("camera", e.what());
+            fail(path_, e.what());
         }
-        return c;
     }
 
     int side(const Json& root, const char* key) const

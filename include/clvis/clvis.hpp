@@ -6,6 +6,7 @@
 #include <clvis/attributes.hpp>
 #include <clvis/batch.hpp>
 #include <clvis/camera.hpp>
+#include <clvis/camera_spec.hpp>
 #include <clvis/device.hpp>
 #include <clvis/error.hpp>
 #include <clvis/host_visibility.hpp>

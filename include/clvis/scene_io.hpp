@@ -4,6 +4,7 @@
 #pragma once
 
 #include <clvis/camera.hpp>
+#include <clvis/camera_spec.hpp>
 #include <clvis/scene.hpp>
 
 #include <optional>
@@ -59,22 +60,26 @@ struct GltfScene {
 GltfScene load_gltf(const std::string& path);
 
 /// A scene file (JSON): meshes with optional transforms, an optional camera and image size.
-///   { "meshes": [ {"file": "a.obj", "transform": [16 numbers, row by row]},
-///                 {"file": "b.ply", "instances": [[16 numbers], [16 numbers], ...]} ],
-///     "camera": {"eye": [x,y,z], "target": [...], "up": [...], "fov": 45 | "ortho": h,
+///   { "meshes": [ {"file": "a.obj", "transform": [16 numbers, row by row]} ],
+///     "camera": {"eye": [x,y,z], "target": [...], "up": [...], "fov": 45 | "ortho": h | true |
+///                "focal_length": 35, "film_gate": [36, 24], "fit": "fill" | "overscan",
 ///                "near": n, "far": f},
 ///     "width": 1920, "height": 1080 }
 /// A mesh with "instances" (instead of "transform") is a prototype: its instances are items at
 /// its place in the list, in the order given (CONVENTIONS.md, "Instances").
 /// Relative mesh paths are relative to the scene file's folder. "meshes" is required and not
-/// empty; in "camera", "eye" and "target" are required, "up" defaults to [0,1,0], the projection
-/// to a 45 degree fov, near and far to Camera's defaults. Unknown fields are errors. Every error
-/// is Error(Io) naming the file and the JSON path ("meshes[1].transform: expected 16 numbers").
-/// A build without nlohmann::json throws Error(Io) saying so.
+/// empty. The camera takes every field of the command line's camera flags, under the same name
+/// (camera_fields(): "film_gate" is --film-gate) and with the same meaning and defaults
+/// (CameraSpec::resolve): no eye and target frames the scene, "ortho": true takes its height
+/// from the scene's bounds, near and far default to the framing camera's depth range.
+/// Unknown fields are errors. Every error is Error(Io) naming the file and the JSON path
+/// ("meshes[1].transform: expected 16 numbers"). A build without nlohmann::json throws
+/// Error(Io) saying so.
 struct SceneFile {
     Scene scene;
-    std::optional<Camera> camera;
-    int width = 0, height = 0; ///< 0 when the file does not say
+    CameraSpec camera_spec;      ///< the camera as the file describes it (empty: none)
+    std::optional<Camera> camera; ///< camera_spec resolved at the file's size (else 1920x1080)
+    int width = 0, height = 0;   ///< 0 when the file does not say
 };
 
 SceneFile load_scene_file(const std::string& path);

@@ -1,0 +1,92 @@
+# The clvis tool as users meet it: exit statuses and the first words of its messages for bad
+# flags and values, the files it says it wrote, and scene files honoured by every subcommand.
+# Run by CTest as `cmake -P` with -DCLVIS=tool -DMESH=scenes/spot.obj -DWORK=dir -DWITH_IMAGE_IO=ON|OFF.
+file(REMOVE_RECURSE ${WORK})
+file(MAKE_DIRECTORY ${WORK})
+set(failures "")
+
+# expect(STATUS REGEX args...): the tool exits with STATUS and its output (stderr, then stdout)
+# matches REGEX; a status of 2 must also start its message with "clvis:".
+function(expect status regex)
+  execute_process(COMMAND ${CLVIS} ${ARGN} RESULT_VARIABLE got OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  set(all "${err}${out}")
+  set(why "")
+  if(NOT "${got}" STREQUAL "${status}")
+    set(why "exit status ${got}, expected ${status}")
+  elseif(NOT all MATCHES "${regex}")
+    set(why "output does not match '${regex}'")
+  elseif(status EQUAL 2 AND NOT err MATCHES "^clvis: ")
+    set(why "the error does not start with 'clvis: '")
+  endif()
+  if(why)
+    string(REPLACE ";" " " command "${ARGN}")
+    set(failures "${failures}\n  clvis ${command}: ${why}\n    ${all}" PARENT_SCOPE)
+  endif()
+endfunction()
+
+# Usage errors: flag parsing (CLI11) and values alike exit 2, start with clvis: and name the flag.
+expect(2 "--width" render ${MESH} --width abc)
+expect(2 "--width" render ${MESH} --width)
+expect(2 "--bogus" render ${MESH} --bogus)
+expect(2 "--path" render ${MESH} --path zbuffer)
+expect(2 "--fov.*--ortho|--ortho.*--fov" render ${MESH} --fov 30 --ortho 2)
+expect(2 "--repeat" render ${MESH} --repeat -1)
+expect(2 "clvis: --eye: expected 3 numbers" render ${MESH} --eye 1,2 --target 0,0,0)
+expect(2 "clvis: --target: is needed with --eye" render ${MESH} --eye 1,2,3)
+expect(2 "clvis: --ortho: the view height must be > 0" render ${MESH} --ortho 0)
+expect(2 "clvis: --fit: applies to the physical camera only" render ${MESH} --fit overscan)
+expect(2 "clvis: --film-gate: is needed with --focal-length" render ${MESH} --focal-length 35)
+expect(2 "clvis: --near: " render ${MESH} --near -1)
+expect(2 "--width: must be positive" render ${MESH} --width 0)
+expect(2 "missing-mesh.obj" render ${WORK}/missing-mesh.obj)
+expect(2 "meshes" render)
+expect(2 "--bogus" info ${MESH} --bogus)
+expect(2 "--bogus" compare a.tif b.tif ${MESH} --bogus)
+expect(2 "^clvis: " bogus-command)
+expect(0 "render" --help)
+expect(0 "clvis [0-9]" --version)
+
+set(size --width 64 --height 48 --quiet)
+if(WITH_IMAGE_IO)
+  # Unsupported extensions are refused before rendering, listing the formats written.
+  expect(2 "--image: .*out.xyz.*\\.exr.*\\.png" render ${MESH} --image ${WORK}/out.xyz)
+  expect(2 "--ids: .*\\.exr, \\.tif, \\.tiff" render ${MESH} --ids ${WORK}/ids.png)
+  expect(2 "--depth: .*\\.exr" render ${MESH} --depth ${WORK}/z.tif)
+  # Both paths: each file written is named.
+  expect(0 "wrote ${WORK}/both-raster.png.*wrote ${WORK}/both-ray.png" render ${MESH} --path all
+         --image ${WORK}/both.png --width 64 --height 48)
+  foreach(file both-raster.png both-ray.png)
+    if(NOT EXISTS ${WORK}/${file})
+      set(failures "${failures}\n  render --path all --image: ${file} not written")
+    endif()
+  endforeach()
+endif()
+
+# A scene file: its size and its (physical) camera are honoured by render, info and compare.
+file(WRITE ${WORK}/scene.json "{\"meshes\": [{\"file\": \"${MESH}\"}], \"width\": 80, \"height\": 40,
+  \"camera\": {\"eye\": [0.3, 0.8, 2.5], \"target\": [0, 0.6, 0], \"focal_length\": 35,
+               \"film_gate\": [36, 24], \"fit\": \"overscan\"}}")
+expect(0 "80x40.*--eye 0.3,0.8,2.5 --target 0,0.6,0" info ${WORK}/scene.json)
+expect(0 "\"height\": 40.*\"width\": 80" render ${WORK}/scene.json --path all --json --quiet)
+if(WITH_IMAGE_IO)
+  expect(0 "" render ${WORK}/scene.json --image ${WORK}/scene.png --ids ${WORK}/scene.tif --path raster --quiet)
+  expect(0 "" render ${WORK}/scene.json --ids ${WORK}/scene-ray.tif --path ray --quiet)
+  if(EXISTS ${WORK}/scene.png)
+    file(READ ${WORK}/scene.png header OFFSET 16 LIMIT 8 HEX) # PNG IHDR: width, height (big-endian)
+    if(NOT header STREQUAL "0000005000000028")
+      set(failures "${failures}\n  render scene.json --image: PNG size ${header}, expected 80x40")
+    endif()
+  else()
+    set(failures "${failures}\n  render scene.json --image: no PNG written")
+  endif()
+  expect(0 "3200 pixels" compare ${WORK}/scene.tif ${WORK}/scene-ray.tif ${WORK}/scene.json)
+  expect(2 "--width: 81 does not match the buffers" compare ${WORK}/scene.tif ${WORK}/scene-ray.tif
+         ${WORK}/scene.json --width 81)
+  expect(0 "" render ${MESH} --ids ${WORK}/small.tif ${size})
+  expect(2 "scene.json: width: 80 does not match the buffers" compare ${WORK}/small.tif ${WORK}/small.tif
+         ${WORK}/scene.json)
+endif()
+
+if(failures)
+  message(FATAL_ERROR "clvis tool checks failed:${failures}")
+endif()
