@@ -1,20 +1,15 @@
-// Compiled alone by the CTest entry light_headers (never linked): the plain-data headers must
-// preprocess without any OpenCL header, so that the host-only referee and image files, and the
-// options and timings, do not drag <CL/cl.h> into their users.
-#include <clvis/host_visibility.hpp>
-#include <clvis/image.hpp>
-#include <clvis/image_io.hpp>
-#include <clvis/ray_files.hpp>
-#include <clvis/rays.hpp>
-#include <clvis/referee.hpp>
-#include <clvis/render_options.hpp>
+// Compiled alone by the CTest entry light_headers (never linked): every public header, the
+// umbrella included, must preprocess without any OpenCL header, so that clvis neither drags
+// <CL/cl.h> into its users nor picks their OpenCL version (device.hpp declares the handles it
+// uses itself).
+#include <clvis/clvis.hpp>
 
 #if defined(__OPENCL_CL_H) || defined(__CL_PLATFORM_H) || defined(CL_SUCCESS)
-#error "a light clvis header included an OpenCL header"
+#error "a clvis header included an OpenCL header"
 #endif
 
 #ifdef CLVIS_LIGHT_HEADERS_SELF_TEST
-#include <clvis/visibility.hpp>
+#include <CL/cl.h>
 #if defined(__OPENCL_CL_H) || defined(__CL_PLATFORM_H) || defined(CL_SUCCESS)
 #error "the check sees OpenCL (self test)"
 #endif

@@ -11,8 +11,6 @@
 #include <clvis/renderer.hpp>
 #include <clvis/visibility.hpp>
 
-#include <CL/cl.h>
-
 #include <cstdint>
 #include <memory>
 #include <vector>
