@@ -57,6 +57,8 @@ void bind_timing(nb::module_& m)
     nb::class_<FrameTiming>(m, "FrameTiming", "Times of one frame: host wall time and device time per stage.")
         .def_ro("frame_ms", &FrameTiming::frame_ms, "Host wall time from the first enqueue to finish (read-back excluded).")
         .def_ro("stages", &FrameTiming::stages)
+        .def_ro("stages_measured", &FrameTiming::stages_measured,
+                "False when the queue has no profiling (a wrapped queue made without it): stages are then absent.")
         .def("__repr__", [](const FrameTiming& t) { return "<clvis.FrameTiming " + std::to_string(t.frame_ms) + " ms>"; });
     nb::class_<BvhStats>(m, "BvhStats", "The ray path's BVH as last built or refitted.")
         .def_ro("build_ms", &BvhStats::build_ms)
