@@ -71,7 +71,7 @@ void check_device_buffer(cl_mem mem, cl_context context, std::uint64_t bytes, co
 
 } // namespace
 
-RayQuery::Impl::Impl(Renderer& renderer, const RayQueryOptions& o) : r(RendererAccess::of(renderer)), options(o)
+RayQuery::Impl::Impl(Renderer& renderer, const RayQueryOptions& o) : r(RendererAccess::of(renderer, "RayQuery")), options(o)
 {
     if (options.batch_rays < 1 || options.batch_rays > (std::size_t(1) << 28))
         throw Error(Error::Kind::InvalidArgument,
