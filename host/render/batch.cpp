@@ -19,7 +19,7 @@ VisibilityBatch::VisibilityBatch(const Device& device, int views, int width, int
         throw Error(Error::Kind::InvalidArgument, "VisibilityBatch: views and size must be positive, got " +
                                                       std::to_string(views) + " views of " + std::to_string(width) +
                                                       "x" + std::to_string(height));
-    auto& impl = *device.impl();
+    auto& impl = device.checked("VisibilityBatch");
     // Sub-buffers must start on the device's base address alignment (in bits).
     std::size_t align_keys = std::max<std::size_t>(impl.device.getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 64, 1);
     stride_ = round_up(std::size_t(width) * std::size_t(height), align_keys);
@@ -60,7 +60,7 @@ void render_views(Renderer& renderer, const std::vector<Camera>& cameras, Path p
     if (int(cameras.size()) != target.views())
         throw Error(Error::Kind::InvalidArgument, "render_views: " + std::to_string(cameras.size()) +
                                                       " cameras for a batch of " + std::to_string(target.views()));
-    Renderer::Impl& m = RendererAccess::of(renderer);
+    Renderer::Impl& m = RendererAccess::of(renderer, "render_views");
     if (target.view(0).device().context() != m.device.context())
         throw Error(Error::Kind::InvalidArgument, "render_views: the batch belongs to another OpenCL context");
     renderer.prepare(path);

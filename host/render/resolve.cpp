@@ -72,7 +72,7 @@ cl_mem AttributeBuffers::buffer(Attribute a) const
 void AttributeBuffers::read(Attribute a, float* out) const
 {
     cl_mem mem = buffer(a);
-    auto& impl = *device_.impl();
+    auto& impl = device_.checked("AttributeBuffers::read");
     try {
         std::lock_guard<std::mutex> lock(impl.mutex);
         impl.queue.enqueueReadBuffer(cl::Buffer(mem, true), CL_TRUE, 0, attribute_bytes(*this, a), out);
@@ -99,7 +99,7 @@ void resolve(Renderer& renderer, const VisibilityBuffer& vis, const Camera& came
 {
     camera.validate();
     if (vis.empty()) throw Error(Error::Kind::InvalidArgument, "resolve: empty visibility buffer");
-    Renderer::Impl& r = RendererAccess::of(renderer);
+    Renderer::Impl& r = RendererAccess::of(renderer, "resolve");
     if (vis.device().context() != r.device.context())
         throw Error(Error::Kind::InvalidArgument, "resolve: the buffer belongs to another OpenCL context");
     // Buffers of the same size on the same context are kept.

@@ -84,6 +84,7 @@ Camera Camera::from_intrinsics(Vec3 eye, Vec3 target, Vec3 up, const Intrinsics&
 {
     Camera c = perspective(eye, target, up, 45, near, far);
     c.intrinsics = k;
+    c.validate();
     return c;
 }
 
@@ -94,6 +95,7 @@ Camera Camera::from_pose(const Mat4& pose, const Camera& lens)
     c.eye = {pose(0, 3), pose(1, 3), pose(2, 3)};
     c.target = c.eye - Vec3{pose(0, 2), pose(1, 2), pose(2, 2)}; // the third column is -f
     c.up = {pose(0, 1), pose(1, 1), pose(2, 1)};
+    c.validate();
     return c;
 }
 
