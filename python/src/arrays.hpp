@@ -56,6 +56,14 @@ nb::ndarray<nb::numpy, const T> numpy_view(const T* data, std::initializer_list<
     return nb::ndarray<nb::numpy, const T>(data, shape, owner);
 }
 
+/// A read-only NumPy array that takes over `values` (no copy), `shape` giving its size.
+template <class T>
+nb::object owned_array(std::vector<T>&& values, std::initializer_list<std::size_t> shape)
+{
+    auto owner = std::make_shared<std::vector<T>>(std::move(values));
+    return nb::cast(numpy_view(owner->data(), shape, keep_alive(owner)));
+}
+
 Vec3 to_vec3(const std::array<double, 3>& v);
 /// A point or a vector as a Python tuple of 3 floats.
 std::tuple<double, double, double> from_vec3(Vec3 v);

@@ -8,9 +8,12 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
+#include <vector>
 
 namespace clvis::python {
 
@@ -31,9 +34,13 @@ struct PyScene {
     Lock lock;
 };
 
+/// A Renderer, its lock, the triangle count of its scene (for visible sets) and its RayQuery,
+/// made on the first ray query (it refers to `renderer`, which nanobind never moves).
 struct PyRenderer {
     Renderer renderer;
     Lock lock;
+    std::uint32_t triangles = 0;
+    std::unique_ptr<RayQuery> query;
 };
 
 /// A visibility buffer as Python sees it: host arrays shared with the NumPy arrays made from
@@ -57,12 +64,18 @@ auto unlocked(Lock& lock, F&& f)
     return f();
 }
 
+/// 'raster', 'ray' or 'brute' as a Path; Error(InvalidArgument) listing them otherwise.
+Path path_named(const std::string& name);
+
 void bind_errors(nb::module_& m);
 void bind_devices(nb::module_& m);
 void bind_scene(nb::module_& m);
 void bind_camera(nb::module_& m);
 void bind_render(nb::module_& m);
 void bind_referee(nb::module_& m);
+/// Ray queries (queries.cpp) and visibility outputs (outputs.cpp) as Renderer methods.
+void bind_ray_queries(nb::class_<PyRenderer>& r);
+void bind_outputs(nb::class_<PyRenderer>& r);
 void bind_image(nb::module_& m);
 
 } // namespace clvis::python

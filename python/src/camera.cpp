@@ -15,6 +15,9 @@ namespace clvis::python {
 namespace {
 
 using Vec = std::array<double, 3>;
+using Quad = std::tuple<double, double, double, double>;
+
+Quad quad_of(const Intrinsics& k) { return {k.fx, k.fy, k.cx, k.cy}; }
 
 struct Lens {
     std::optional<double> fov, ortho, focal_length;
@@ -91,7 +94,60 @@ void bind_camera_queries(nb::class_<Camera>& c)
             },
             nb::arg("x"), nb::arg("y"), nb::arg("width"), nb::arg("height"),
             "(origin, direction) of the ray through raster position (x, y); pixel (i, j) is sampled at (i+.5, j+.5).")
+        .def_prop_ro("intrinsics", [](const Camera& c) {
+            return c.intrinsics ? std::optional<Quad>(quad_of(*c.intrinsics)) : std::nullopt;
+        }, "(fx, fy, cx, cy) of a camera made from intrinsics, else None.")
+        .def("raster_map", [](const Camera& c, int width, int height) { return quad_of(c.raster_map(width, height)); },
+             nb::arg("width"), nb::arg("height"),
+             "(fx, fy, cx, cy): the map from screen to raster space of a width x height image, x = cx + fx s.x,\n"
+             "y = cy - fy s.y (the intrinsics when given, else the canvas centred on the image).")
+        .def("pose", [](const Camera& c) { return from_mat4(c.pose()); },
+             "(4, 4) float64 camera-to-world matrix: columns r, u, -f and the eye (what from_pose takes).")
         .def("__repr__", [](const Camera& c) { return "<clvis.Camera " + c.to_flags() + ">"; });
+}
+
+void bind_camera_makers(nb::class_<Camera>& c)
+{
+    c.def_static(
+         "from_intrinsics",
+         [](Vec eye, Vec target, Vec up, double fx, double fy, double cx, double cy, double near, double far) {
+             Camera cam = Camera::from_intrinsics(to_vec3(eye), to_vec3(target), to_vec3(up), Intrinsics{fx, fy, cx, cy},
+                                                  near, far);
+             cam.validate();
+             return cam;
+         },
+         nb::kw_only(), nb::arg("eye"), nb::arg("target"), nb::arg("up") = Vec{0, 1, 0}, nb::arg("fx"), nb::arg("fy"),
+         nb::arg("cx"), nb::arg("cy"), nb::arg("near") = 0.1, nb::arg("far") = 1000.0,
+         "A perspective camera from intrinsics in pixels: x = cx + fx s.x, y = cy - fy s.y in raster space\n"
+         "(pixel centres at half-integers; see from_opencv for OpenCV's K).\n\n"
+         "Example:\n    cam = clvis.Camera.from_intrinsics(eye=(0, 0, 3), target=(0, 0, 0), fx=500, fy=500, cx=320, cy=180)")
+        .def_static(
+            "from_pose",
+            [](nb::handle pose, std::optional<Camera> lens) {
+                const Mat4 m = to_mat4(pose, "Camera.from_pose: pose");
+                Camera cam = lens ? Camera::from_pose(m, *lens) : Camera::from_pose(m);
+                cam.validate();
+                return cam;
+            },
+            nb::sig("def from_pose(pose: numpy.typing.ArrayLike, lens: Camera | None = None) -> Camera"),
+            nb::arg("pose"), nb::arg("lens") = nb::none(),
+            "A camera whose frame is the (4, 4) camera-to-world matrix `pose` (columns r, u, -f, eye), with the\n"
+            "projection of `lens` (its eye, target and up replaced) or the default camera's.")
+        .def_static(
+            "from_opencv",
+            [](double fx, double fy, double cx, double cy, nb::handle world_to_camera, double near, double far) {
+                Camera cam = Camera::from_opencv(fx, fy, cx, cy, to_mat4(world_to_camera, "Camera.from_opencv: world_to_camera"),
+                                                 near, far);
+                cam.validate();
+                return cam;
+            },
+            nb::sig("def from_opencv(fx: float, fy: float, cx: float, cy: float, world_to_camera: numpy.typing.ArrayLike, "
+                    "near: float = 0.1, far: float = 1000.0) -> Camera"),
+            nb::arg("fx"), nb::arg("fy"), nb::arg("cx"), nb::arg("cy"), nb::arg("world_to_camera"),
+            nb::arg("near") = 0.1, nb::arg("far") = 1000.0,
+            "From OpenCV's pinhole: K's fx, fy, cx, cy (pixel centres at integers) and the (4, 4) world-to-camera\n"
+            "extrinsics [R | t] (camera x right, y down, z forward): the pixels of cv2.projectPoints, shifted by\n"
+            "half a pixel.");
 }
 
 } // namespace
@@ -121,6 +177,7 @@ void bind_camera(nb::module_& m)
         "(ortho=True: view height and distance 2R). It depends on the bounds only, not on the image size.\n\n"
         "Example:\n    cam = clvis.Camera.framing(scene.bounds())");
     bind_camera_queries(c);
+    bind_camera_makers(c);
 }
 
 } // namespace clvis::python

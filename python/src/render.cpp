@@ -12,12 +12,12 @@
 
 namespace clvis::python {
 
-namespace {
-
 Path path_named(const std::string& name)
 {
     return parse_choice<Path>(name, "path", {{"raster", Path::Raster}, {"ray", Path::Ray}, {"brute", Path::Brute}});
 }
+
+namespace {
 
 RenderOptions render_options(int tile, const std::string& cull, int leaf_size, int sah_bins,
                              const std::string& bvh_update)
@@ -146,13 +146,13 @@ void bind_render(nb::module_& m)
 {
     bind_timing(m);
     bind_visibility(m);
-    nb::class_<PyRenderer>(m, "Renderer", nb::is_weak_referenceable(), renderer_doc)
-        .def(
+    nb::class_<PyRenderer> r(m, "Renderer", nb::is_weak_referenceable(), renderer_doc);
+    r.def(
             "__init__",
             [](PyRenderer* self, const Device& device, PyScene& scene, int tile, const std::string& cull,
                int leaf_size, int sah_bins, const std::string& bvh_update) {
                 const RenderOptions o = render_options(tile, cull, leaf_size, sah_bins, bvh_update);
-                unlocked(scene.lock, [&] { new (self) PyRenderer{Renderer(device, scene.scene, o), {}}; });
+                unlocked(scene.lock, [&] { new (self) PyRenderer{Renderer(device, scene.scene, o), {}, std::uint32_t(scene.scene.triangle_count()), nullptr}; });
             },
             nb::arg("device"), nb::arg("scene"), nb::kw_only(), nb::arg("tile") = 0, nb::arg("cull") = "none",
             nb::arg("leaf_size") = 4, nb::arg("sah_bins") = 16, nb::arg("bvh_update") = "refit")
@@ -177,6 +177,8 @@ void bind_render(nb::module_& m)
         .def_prop_ro("last_frame", [](PyRenderer& r) { return unlocked(r.lock, [&] { return r.renderer.last_frame(); }); })
         .def_prop_ro("bvh_stats", [](PyRenderer& r) { return unlocked(r.lock, [&] { return r.renderer.bvh_stats(); }); })
         .def_prop_ro("device", [](PyRenderer& r) { return unlocked(r.lock, [&] { return r.renderer.device(); }); });
+    bind_ray_queries(r);
+    bind_outputs(r);
 }
 
 } // namespace clvis::python
