@@ -32,8 +32,10 @@ clvis_camera_gpu gpu_camera(int w, int h, bool ortho)
     c.r_x = 1;
     c.u_y = 1;
     c.f_z = -1;
-    c.top = ortho ? float(h) / 2 : 0.5f;
-    c.right = c.top * float(w) / float(h);
+    // Canvas half-height h/2 (ortho) or 0.5 (perspective): fx = fy = h/(2 top), centred.
+    c.fx = c.fy = ortho ? 1.0f : float(h);
+    c.cx = float(w) / 2;
+    c.cy = float(h) / 2;
     c.width = w;
     c.height = h;
     c.ortho = ortho;

@@ -20,6 +20,13 @@ void write_depth(const std::string& path, const HostVisibility& vis);
 HostVisibility read_ids(const std::string& path);
 /// Reads a depth buffer into `vis.depth` (width and height must match when already set).
 void read_depth(const std::string& path, HostVisibility& vis);
+/// Writes channels.size() float channels per pixel, adjacent (.exr): barycentrics "u", "v";
+/// positions and normals "x", "y", "z".
+void write_float_channels(const std::string& path, int width, int height, const std::vector<std::string>& channels,
+                          const std::vector<float>& pixels);
+/// Reads every channel of an image as float, adjacent per pixel, with its size and channel names.
+std::vector<float> read_float_channels(const std::string& path, int* width, int* height,
+                                       std::vector<std::string>* channels = nullptr);
 /// Writes a colour image (.png, .exr, or anything OpenImageIO writes). An extension of no
 /// writer is Error(Io) listing image_extensions().
 void write_image(const std::string& path, const Image& image);
