@@ -1,5 +1,6 @@
 // The OpenCL runtime: listing and picking devices, errors that name the call and the code, build
 // failures that carry the log, limits refused before allocating, and no platform at all.
+#include "shared/ray_query.h"
 #include "catch.hpp"
 
 #include "runtime/cl_runtime.hpp"
@@ -66,11 +67,22 @@ TEST_CASE("every embedded kernel builds on the device", "[device]")
 {
     Device d = Device::open();
     // Build-time parameters that a pipeline derives from its data (the ray stack from the BVH's
-    // depth); the kernel refuses to build without them.
-    auto options = [](const std::string& name) { return name == "ray_trace" ? "-DCLVIS_RAY_STACK=64" : ""; };
+    // depth; the query kind of a ray query); the kernel refuses to build without them.
+    auto options = [](const std::string& name) -> std::vector<std::string> {
+        if (name == "ray_trace") return {"-DCLVIS_RAY_STACK=64"};
+        if (name == "ray_query") {
+            std::vector<std::string> kinds;
+            for (int kind : {CLVIS_QUERY_CLOSEST, CLVIS_QUERY_ANY, CLVIS_QUERY_COUNT})
+                kinds.push_back("-DCLVIS_QUERY=" + std::to_string(kind) + " -DCLVIS_RAY_STACK=64");
+            return kinds;
+        }
+        return {""};
+    };
     for (const auto& k : detail::embedded_kernels()) {
-        INFO("kernel file " << k.name);
-        CHECK_NOTHROW(d.impl()->program(k.name, options(k.name)));
+        for (const std::string& o : options(k.name)) {
+            INFO("kernel file " << k.name << " with '" << o << "'");
+            CHECK_NOTHROW(d.impl()->program(k.name, o));
+        }
     }
 }
 

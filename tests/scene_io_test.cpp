@@ -505,7 +505,7 @@ TEST_CASE("a views file gives cameras of one size; {view} names are zero-padded"
     } catch (const Error& e) {
         msg = e.what();
     }
-    CHECK(msg == bad + ": views[1].eye: missing");
+    CHECK(msg == bad + ": views[1].eye: is needed with views[1].target");
     std::string none = write_file("scene/no-views.json", R"({"width": 64, "height": 48, "views": []})");
     CHECK_THROWS_AS(load_views_file(none), Error);
     CHECK(view_file_name("out/ids-{view}.tif", 7, 63) == "out/ids-07.tif");
