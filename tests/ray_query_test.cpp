@@ -6,6 +6,7 @@
 #include "catch.hpp"
 #include "ray_oracle.hpp"
 
+#include <CL/cl.h>
 #include <clvis/clvis.hpp>
 #include <clvis/ray_query.hpp>
 

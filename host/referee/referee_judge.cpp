@@ -194,12 +194,15 @@ void Referee::Impl::judge_depth(const Triangle& t, double x, double y, double de
     v.depth_expected = v.depth_lo = v.depth_hi = nan;
     double emin = inf;
     bool plane = false;
+    // An explicit RefereeTolerance that loosens the depth range (float32 cannot honour it) loosens
+    // the judged depths as much; the default keeps CONVENTIONS.md's 1e-5.
+    const double judge_rel = std::fmax(referee_depth_judge_rel, rel);
     if (!t.flat) {
         double den = t.det.at(x, y), d = t.num.at(x, y) / den;
         if (std::isfinite(d) && d > 0) {
             // d = num / det, so grad d = (grad num - d grad det) / det, in depth per raster pixel.
             double gx = (t.num.a - d * t.det.a) / den, gy = (t.num.b - d * t.det.b) / den;
-            double tol = referee_depth_judge_rel * d + std::hypot(gx, gy) * depth_px;
+            double tol = judge_rel * d + std::hypot(gx, gy) * depth_px;
             v.depth_expected = d;
             v.depth_lo = d - tol;
             v.depth_hi = d + tol;
@@ -212,8 +215,8 @@ void Referee::Impl::judge_depth(const Triangle& t, double x, double y, double de
         // The ray misses the triangle (or it has no inside): along a ray that misses a plane seen
         // almost edge-on the plane's depth means nothing, so the depths of its visible part within
         // EPS of the sample are accepted too.
-        lo *= 1 - referee_depth_judge_rel;
-        hi *= 1 + referee_depth_judge_rel;
+        lo *= 1 - judge_rel;
+        hi *= 1 + judge_rel;
         v.depth_lo = plane ? std::fmin(v.depth_lo, lo) : lo;
         v.depth_hi = plane ? std::fmax(v.depth_hi, hi) : hi;
     }

@@ -9,7 +9,6 @@
 #include <clvis/renderer.hpp>
 #include <clvis/visibility.hpp>
 
-#include <CL/cl.h>
 
 #include <array>
 #include <memory>

@@ -48,7 +48,7 @@ constexpr double referee_depth_rel = 1e-6;
 /// referee_depth_rel. Whoever loosens it states why.
 struct RefereeTolerance {
     double edge_eps = referee_edge_eps;   ///< px
-    double depth_rel = referee_depth_rel; ///< relative
+    double depth_rel = referee_depth_rel; ///< relative; judged depths are never held tighter than it
 };
 /// The depth tolerance of a buffer's depths: relative, plus the gradient over this many pixels
 /// (the raster path's 1/65536 px snapping).

@@ -7,7 +7,6 @@
 #include <clvis/device.hpp>
 #include <clvis/visibility.hpp>
 
-#include <CL/cl.h>
 
 #include <cstdint>
 #include <memory>
