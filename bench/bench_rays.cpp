@@ -9,6 +9,8 @@
 
 #include <clvis/clvis.hpp>
 
+#include <CL/cl.h>
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
