@@ -28,31 +28,48 @@ static clvis_vec3 vertex(__global const float* positions, uint v)
     return p;
 }
 
+/* Three-float vectors as plain structs: Oclgrind 21.10's uninitialised-value checker crashes on
+   the 3-element vector types (12 bytes in registers, 16 in memory) this file used. */
+static clvis_vec3 v3(float x, float y, float z)
+{
+    clvis_vec3 r = {x, y, z};
+    return r;
+}
+static clvis_vec3 v3_sub(clvis_vec3 a, clvis_vec3 b) { return v3(a.x - b.x, a.y - b.y, a.z - b.z); }
+static clvis_vec3 v3_mad(clvis_vec3 a, float k, clvis_vec3 b) { return v3(a.x + k * b.x, a.y + k * b.y, a.z + k * b.z); }
+static clvis_vec3 v3_scale(clvis_vec3 a, float k) { return v3(k * a.x, k * a.y, k * a.z); }
+static float v3_dot(clvis_vec3 a, clvis_vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static clvis_vec3 v3_cross(clvis_vec3 a, clvis_vec3 b)
+{
+    return v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+
 /* The visible point of `pixel` lifted by `offset` world units along its unit face normal, turned
    toward the camera; 0 for a background pixel. */
 static int surface_point(__global const ulong* keys, clvis_camera_gpu cam, __global const float* positions,
-                         __global const uint* indices, uint pixel, float offset, float3* point, float3* normal)
+                         __global const uint* indices, uint pixel, float offset, clvis_vec3* point, clvis_vec3* normal)
 {
     ulong key = keys[pixel];
     uint id = clvis_key_id(key);
     if (id == CLVIS_BACKGROUND_ID) return 0;
     clvis_vec3 o, d;
-    clvis_primary_ray(cam, (float)(pixel % (uint)cam.width) + 0.5f, (float)(pixel / (uint)cam.width) + 0.5f, &o, &d);
-    float t = clvis_key_depth(key);
-    float3 dir = (float3)(d.x, d.y, d.z);
-    float3 p = (float3)(o.x, o.y, o.z) + t * dir;
+    /* Row and column without `%`: LLVM pairs a division with its remainder through a `freeze`
+       instruction, which Oclgrind 21.10's uninitialised-value checker cannot interpret. */
+    uint width = (uint)cam.width, row = pixel / width, column = pixel - row * width;
+    clvis_primary_ray(cam, (float)column + 0.5f, (float)row + 0.5f, &o, &d);
+    clvis_vec3 p = v3_mad(o, clvis_key_depth(key), d);
     clvis_vec3 a = vertex(positions, indices[3 * (size_t)id]), b = vertex(positions, indices[3 * (size_t)id + 1]);
     clvis_vec3 c = vertex(positions, indices[3 * (size_t)id + 2]);
-    float3 n = cross((float3)(b.x - a.x, b.y - a.y, b.z - a.z), (float3)(c.x - a.x, c.y - a.y, c.z - a.z));
-    float len = length(n);
-    n = len > 0.0f ? n / len : -normalize(dir);
-    if (dot(n, dir) > 0.0f) n = -n;
-    *point = p + offset * n;
+    clvis_vec3 n = v3_cross(v3_sub(b, a), v3_sub(c, a));
+    float len = sqrt(v3_dot(n, n));
+    n = len > 0.0f ? v3_scale(n, 1.0f / len) : v3_scale(d, -1.0f / sqrt(v3_dot(d, d)));
+    if (v3_dot(n, d) > 0.0f) n = v3_scale(n, -1.0f);
+    *point = v3_mad(p, offset, n);
     *normal = n;
     return 1;
 }
 
-static void store_ray(__global float* rays, size_t i, float3 o, float tmin, float3 d, float tmax)
+static void store_ray(__global float* rays, size_t i, clvis_vec3 o, float tmin, clvis_vec3 d, float tmax)
 {
     float r[CLVIS_RAY_FIELDS] = {o.x, o.y, o.z, tmin, d.x, d.y, d.z, tmax};
     for (int k = 0; k < CLVIS_RAY_FIELDS; ++k) rays[i * CLVIS_RAY_FIELDS + (size_t)k] = r[k];
@@ -66,10 +83,10 @@ __kernel void ray_generate_ao(__global const ulong* keys, clvis_camera_gpu cam, 
 {
     uint g = (uint)get_global_id(0);
     if (g >= pixels * per_pixel) return;
-    uint pixel = first_pixel + g / per_pixel, k = g % per_pixel;
-    float3 p, n;
+    uint q = g / per_pixel, pixel = first_pixel + q, k = g - q * per_pixel; /* no `%`: see surface_point */
+    clvis_vec3 p, n, zero = v3(0.0f, 0.0f, 0.0f);
     if (!surface_point(keys, cam, positions, indices, pixel, offset, &p, &n)) {
-        store_ray(rays, g, (float3)(0.0f), 0.0f, (float3)(0.0f), 0.0f);
+        store_ray(rays, g, zero, 0.0f, zero, 0.0f);
         return;
     }
     uint h = hash32(hash32(hash32(seed_lo) ^ seed_hi) ^ pixel);
@@ -78,10 +95,10 @@ __kernel void ray_generate_ao(__global const ulong* keys, clvis_camera_gpu cam, 
     float lx = r * cos(phi), ly = r * sin(phi), lz = sqrt(fmax(0.0f, 1.0f - r * r));
     float sign = n.z >= 0.0f ? 1.0f : -1.0f;
     float a = -1.0f / (sign + n.z), b = n.x * n.y * a;
-    float3 tx = (float3)(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    float3 ty = (float3)(b, sign + n.y * n.y * a, -n.y);
-    float3 dir = lx * tx + ly * ty + lz * n;
-    store_ray(rays, g, p, 0.0f, dir * distance, 1.0f);
+    clvis_vec3 tx = v3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    clvis_vec3 ty = v3(b, sign + n.y * n.y * a, -n.y);
+    clvis_vec3 dir = v3_mad(v3_mad(v3_scale(tx, lx), ly, ty), lz, n);
+    store_ray(rays, g, p, 0.0f, v3_scale(dir, distance), 1.0f);
 }
 
 /* The shadow ray of pixel first_pixel + g: from the visible point to the light, t in [0, 1]. */
@@ -91,10 +108,10 @@ __kernel void ray_generate_shadow(__global const ulong* keys, clvis_camera_gpu c
 {
     uint g = (uint)get_global_id(0);
     if (g >= pixels * per_pixel) return;
-    float3 p, n;
+    clvis_vec3 p, n, zero = v3(0.0f, 0.0f, 0.0f);
     if (!surface_point(keys, cam, positions, indices, first_pixel + g, offset, &p, &n)) {
-        store_ray(rays, g, (float3)(0.0f), 0.0f, (float3)(0.0f), 0.0f);
+        store_ray(rays, g, zero, 0.0f, zero, 0.0f);
         return;
     }
-    store_ray(rays, g, p, 0.0f, (float3)(light_x, light_y, light_z) - p, 1.0f);
+    store_ray(rays, g, p, 0.0f, v3_sub(v3(light_x, light_y, light_z), p), 1.0f);
 }

@@ -34,10 +34,11 @@ typedef struct answer {
 
 static clvis_ray_rec load_ray(__global const float* rays, int layout, ulong stride, ulong i)
 {
-    float f[CLVIS_RAY_FIELDS];
-    for (int k = 0; k < CLVIS_RAY_FIELDS; ++k)
-        f[k] = layout == CLVIS_LAYOUT_AOS ? rays[i * CLVIS_RAY_FIELDS + (ulong)k] : rays[(ulong)k * stride + i];
-    clvis_ray_rec r = {f[0], f[1], f[2], f[3], f[4], f[5], f[6], f[7]};
+    /* The layout chosen once, outside the field loop: no load of the other layout's address. */
+    ulong first = layout == CLVIS_LAYOUT_AOS ? i * CLVIS_RAY_FIELDS : i;
+    ulong step = layout == CLVIS_LAYOUT_AOS ? 1 : stride;
+    clvis_ray_rec r = {rays[first], rays[first + step], rays[first + 2 * step], rays[first + 3 * step],
+                       rays[first + 4 * step], rays[first + 5 * step], rays[first + 6 * step], rays[first + 7 * step]};
     return r;
 }
 
