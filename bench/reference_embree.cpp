@@ -249,47 +249,99 @@ std::string EmbreeReference::description() const
            std::to_string(RTC_VERSION_PATCH) + " (threads=" + std::to_string(impl_->threads) + ")";
 }
 
-ReferenceResult EmbreeReference::render(const Camera& camera, int width, int height, EmbreeMode mode, int repeats,
-                                        double budget_ms)
+double EmbreeReference::rebuild(const Scene& scene)
 {
-    if (width <= 0 || height <= 0) throw std::runtime_error("embree: image size must be positive");
-    RayGen gen(camera, width, height);
-    ReferenceResult result;
-    result.name = mode == EmbreeMode::Single ? "embree-intersect1" : "embree-intersect16";
-    result.width = width;
-    result.height = height;
-    result.build_ms = build_ms();
-    result.build_samples_ms = impl_->builds_ms;
-    result.ids.assign(std::size_t(width) * height, background_id);
-    result.depth.assign(result.ids.size(), std::numeric_limits<float>::infinity());
-    Frame out{result.ids.data(), result.depth.data()};
+    double ms = impl_->build(scene);
+    impl_->builds_ms.push_back(ms);
+    return ms;
+}
 
-    int tiles_x = (width + work_tile - 1) / work_tile, tiles_y = (height + work_tile - 1) / work_tile;
-    int tiles = tiles_x * tiles_y;
-    RTCScene scene = impl_->scene;
-    auto frame = [&] {
+namespace {
+
+/// What a view traces: the reference's scene as it was made (a rebuild releases it), its device
+/// and threads, and its timed builds.
+struct Traced {
+    RTCDevice device;
+    RTCScene scene;
+    int threads;
+    const std::vector<double>& builds_ms;
+};
+
+class EmbreeView final : public ReferenceView {
+public:
+    EmbreeView(const Traced& r, const Camera& camera, int width, int height, EmbreeMode m)
+        : ref_(r), gen_(camera, width, height), mode_(m), tiles_x_((width + work_tile - 1) / work_tile),
+          tiles_(tiles_x_ * ((height + work_tile - 1) / work_tile))
+    {
+        result_.name = mode_ == EmbreeMode::Single ? "embree-intersect1" : "embree-intersect16";
+        result_.width = width;
+        result_.height = height;
+        result_.ids.assign(std::size_t(width) * height, background_id);
+        result_.depth.assign(result_.ids.size(), std::numeric_limits<float>::infinity());
+        trace(); // warm-up: first touches of the BVH and the buffers
+        check(ref_.device, "rtcIntersect");
+    }
+
+    double frame() override
+    {
+        auto t0 = std::chrono::steady_clock::now();
+        trace();
+        double ms = ms_since(t0);
+        result_.frame_ms.push_back(ms);
+        return ms;
+    }
+
+    const ReferenceResult& result() override
+    {
+        check(ref_.device, "rtcIntersect");
+        result_.build_samples_ms = ref_.builds_ms;
+        result_.build_ms = median_of(ref_.builds_ms);
+        return result_;
+    }
+
+private:
+    Traced ref_;
+    RayGen gen_;
+    EmbreeMode mode_;
+    int tiles_x_, tiles_;
+    ReferenceResult result_;
+
+    /// Every pixel centre traced once by `threads` std::threads taking tiles from a counter.
+    void trace()
+    {
+        Frame out{result_.ids.data(), result_.depth.data()};
         std::atomic<int> next{0};
         auto worker = [&] {
             DenormalsOff denormals_off;
-            for (int t = next++; t < tiles; t = next++) {
-                int x0 = t % tiles_x * work_tile, y0 = t / tiles_x * work_tile;
-                if (mode == EmbreeMode::Single) trace_tile_single(scene, gen, x0, y0, out);
-                else trace_tile_packets(scene, gen, x0, y0, out);
+            for (int t = next++; t < tiles_; t = next++) {
+                int x0 = t % tiles_x_ * work_tile, y0 = t / tiles_x_ * work_tile;
+                if (mode_ == EmbreeMode::Single) trace_tile_single(ref_.scene, gen_, x0, y0, out);
+                else trace_tile_packets(ref_.scene, gen_, x0, y0, out);
             }
         };
         std::vector<std::thread> pool;
-        for (int k = 1; k < impl_->threads; ++k) pool.emplace_back(worker);
+        for (int k = 1; k < ref_.threads; ++k) pool.emplace_back(worker);
         worker();
         for (auto& th : pool) th.join();
-    };
-    frame(); // warm-up: first touches of the BVH and the buffers
-    while (!enough_frames(result.frame_ms, repeats, budget_ms)) {
-        auto t0 = std::chrono::steady_clock::now();
-        frame();
-        result.frame_ms.push_back(ms_since(t0));
     }
-    check(impl_->device, "rtcIntersect");
-    return result;
+};
+
+} // namespace
+
+std::unique_ptr<ReferenceView> EmbreeReference::view(const Camera& camera, int width, int height, EmbreeMode mode)
+{
+    if (width <= 0 || height <= 0) throw std::runtime_error("embree: image size must be positive");
+    return std::make_unique<EmbreeView>(Traced{impl_->device, impl_->scene, impl_->threads, impl_->builds_ms}, camera,
+                                        width, height, mode);
+}
+
+ReferenceResult EmbreeReference::render(const Camera& camera, int width, int height, EmbreeMode mode, int repeats,
+                                        double budget_ms)
+{
+    std::unique_ptr<ReferenceView> v = view(camera, width, height, mode);
+    std::vector<double> ms;
+    while (!enough_frames(ms, repeats, budget_ms)) ms.push_back(v->frame());
+    return v->result();
 }
 
 EmbreeRays EmbreeReference::trace(const RayRecord* rays, std::size_t n, bool occluded, EmbreeMode mode, int repeats)
@@ -310,12 +362,11 @@ bool embree_available() noexcept { return true; }
 
 namespace clvis::bench {
 
+constexpr const char* not_built = "embree: clvis was built without Embree 3 (Debian: libembree-dev)";
+
 struct EmbreeReference::Impl {};
 
-EmbreeReference::EmbreeReference(const Scene&, int, int)
-{
-    throw std::runtime_error("embree: clvis was built without Embree 3 (Debian: libembree-dev)");
-}
+EmbreeReference::EmbreeReference(const Scene&, int, int) { throw std::runtime_error(not_built); }
 EmbreeReference::~EmbreeReference() = default;
 double EmbreeReference::build_ms() const { return 0; }
 const std::vector<double>& EmbreeReference::build_samples_ms() const
@@ -326,11 +377,16 @@ const std::vector<double>& EmbreeReference::build_samples_ms() const
 std::string EmbreeReference::description() const { return "Embree (not built)"; }
 ReferenceResult EmbreeReference::render(const Camera&, int, int, EmbreeMode, int, double)
 {
-    throw std::runtime_error("embree: clvis was built without Embree 3 (Debian: libembree-dev)");
+    throw std::runtime_error(not_built);
+}
+double EmbreeReference::rebuild(const Scene&) { throw std::runtime_error(not_built); }
+std::unique_ptr<ReferenceView> EmbreeReference::view(const Camera&, int, int, EmbreeMode)
+{
+    throw std::runtime_error(not_built);
 }
 EmbreeRays EmbreeReference::trace(const RayRecord*, std::size_t, bool, EmbreeMode, int)
 {
-    throw std::runtime_error("embree: clvis was built without Embree 3 (Debian: libembree-dev)");
+    throw std::runtime_error(not_built);
 }
 bool embree_available() noexcept { return false; }
 

@@ -43,6 +43,10 @@ public:
     EmbreeReference(const EmbreeReference&) = delete;
     EmbreeReference& operator=(const EmbreeReference&) = delete;
 
+    /// Builds the scene once more (a fresh RTCScene, then kept): appends the commit's time to
+    /// build_samples_ms and returns it. `clvis bench` alternates these with clvis's builds.
+    double rebuild(const Scene& scene);
+
     /// Median and every sample of the timed builds (ms).
     double build_ms() const;
     const std::vector<double>& build_samples_ms() const;
@@ -60,6 +64,11 @@ public:
     /// `threads` std::threads: one untimed run, then `repeats` timed runs. Throws
     /// std::runtime_error on failure.
     EmbreeRays trace(const RayRecord* rays, std::size_t n, bool occluded, EmbreeMode mode, int repeats);
+
+    /// One camera and image size for interleaved timing (the reference must outlive it, and a
+    /// rebuild ends it): frame() traces every pixel centre once; result() adds the builds so far.
+    /// Traces the warm-up frame; throws std::runtime_error on failure.
+    std::unique_ptr<ReferenceView> view(const Camera& camera, int width, int height, EmbreeMode mode);
 
 private:
     struct Impl;

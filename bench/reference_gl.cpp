@@ -190,100 +190,156 @@ GlReference::~GlReference() = default;
 
 std::string GlReference::description() const { return impl_->description; }
 
-ReferenceResult GlReference::render(const Camera& camera, int width, int height, int repeats, double budget_ms)
-{
-    if (width <= 0 || height <= 0) throw std::runtime_error("gl: image size must be positive");
-    camera.validate();
-    Impl& g = *impl_;
-    g.make_current();
-    GLint max_size = 0;
-    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
-    if (width > max_size || height > max_size)
-        throw std::runtime_error("gl: " + std::to_string(width) + "x" + std::to_string(height) +
-                                 " exceeds GL_MAX_RENDERBUFFER_SIZE " + std::to_string(max_size));
-
-    GLuint fbo = 0, colour = 0, depth = 0;
-    glGenRenderbuffers(1, &colour);
-    glBindRenderbuffer(GL_RENDERBUFFER, colour);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_R32UI, width, height);
-    glGenRenderbuffers(1, &depth);
-    glBindRenderbuffer(GL_RENDERBUFFER, depth);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, width, height);
-    glGenFramebuffers(1, &fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
-    struct Release {
-        GLuint fbo, colour, depth;
-        ~Release()
-        {
-            glBindFramebuffer(GL_FRAMEBUFFER, 0);
-            glDeleteFramebuffers(1, &fbo);
-            glDeleteRenderbuffers(1, &colour);
-            glDeleteRenderbuffers(1, &depth);
+/// One camera in a framebuffer object of the view's size: R32UI ids and 32-bit float depth.
+class GlReference::View final : public ReferenceView {
+public:
+    View(const GlReference::Impl& ref, const Camera& c, int width, int height) : g(ref), camera(c)
+    {
+        result_.name = "llvmpipe";
+        result_.width = width;
+        result_.height = height;
+        g.make_current();
+        try {
+            make_framebuffer();
+            set_up_frame();
+            draw(); // warm-up: the first draw compiles the shaders for the rasterizer
+            check_gl("the warm-up frame");
+        } catch (...) {
+            release();
+            throw;
         }
-    } release{fbo, colour, depth};
-    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-    if (status != GL_FRAMEBUFFER_COMPLETE) throw std::runtime_error("gl: framebuffer incomplete: " + hex(status));
+    }
 
-    // Camera matrices are row-major (p' = M p): transpose on upload.
-    Mat4 m = camera.projection_matrix(width, height) * camera.view_matrix();
-    float clip_from_world[16];
-    for (int k = 0; k < 16; ++k) clip_from_world[k] = float(m.m[k]);
-    glUseProgram(g.program);
-    glUniformMatrix4fv(g.clip_from_world, 1, GL_TRUE, clip_from_world);
-    glBindVertexArray(g.vao);
-    glViewport(0, 0, width, height);
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_BLEND);
-    glDisable(GL_DITHER);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS); // an exact depth tie keeps the earlier, lower id
-    glDepthMask(GL_TRUE);
-    glDepthRange(0.0, 1.0);
-    check_gl("setting up the frame");
+    double frame() override
+    {
+        g.make_current();
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        set_up_frame();
+        auto t0 = std::chrono::steady_clock::now();
+        draw();
+        double ms = ms_since(t0);
+        result_.frame_ms.push_back(ms);
+        return ms;
+    }
 
-    const GLuint clear_id[4] = {background_id, 0, 0, 0};
-    const GLfloat clear_depth = 1.0f;
-    auto frame = [&] {
+    const ReferenceResult& result() override
+    {
+        g.make_current();
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        check_gl("drawing");
+        read_back();
+        return result_;
+    }
+
+    ~View() override { release(); }
+
+private:
+    const GlReference::Impl& g;
+    Camera camera;
+    ReferenceResult result_;
+    GLuint fbo = 0, colour = 0, depth = 0;
+
+    void release()
+    {
+        if (!eglMakeCurrent(g.display, EGL_NO_SURFACE, EGL_NO_SURFACE, g.context)) return;
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        if (fbo) glDeleteFramebuffers(1, &fbo);
+        if (colour) glDeleteRenderbuffers(1, &colour);
+        if (depth) glDeleteRenderbuffers(1, &depth);
+        fbo = colour = depth = 0;
+    }
+
+    void make_framebuffer()
+    {
+        GLint max_size = 0;
+        glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
+        if (result_.width > max_size || result_.height > max_size)
+            throw std::runtime_error("gl: " + std::to_string(result_.width) + "x" + std::to_string(result_.height) +
+                                     " exceeds GL_MAX_RENDERBUFFER_SIZE " + std::to_string(max_size));
+        glGenRenderbuffers(1, &colour);
+        glBindRenderbuffer(GL_RENDERBUFFER, colour);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_R32UI, result_.width, result_.height);
+        glGenRenderbuffers(1, &depth);
+        glBindRenderbuffer(GL_RENDERBUFFER, depth);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, result_.width, result_.height);
+        glGenFramebuffers(1, &fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+        GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+        if (status != GL_FRAMEBUFFER_COMPLETE) throw std::runtime_error("gl: framebuffer incomplete: " + hex(status));
+    }
+
+    /// The program, the camera's matrix and the fixed-function state of every frame.
+    void set_up_frame()
+    {
+        // Camera matrices are row-major (p' = M p): transpose on upload.
+        Mat4 m = camera.projection_matrix(result_.width, result_.height) * camera.view_matrix();
+        float clip_from_world[16];
+        for (int k = 0; k < 16; ++k) clip_from_world[k] = float(m.m[k]);
+        glUseProgram(g.program);
+        glUniformMatrix4fv(g.clip_from_world, 1, GL_TRUE, clip_from_world);
+        glBindVertexArray(g.vao);
+        glViewport(0, 0, result_.width, result_.height);
+        glDisable(GL_CULL_FACE);
+        glDisable(GL_BLEND);
+        glDisable(GL_DITHER);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS); // an exact depth tie keeps the earlier, lower id
+        glDepthMask(GL_TRUE);
+        glDepthRange(0.0, 1.0);
+        check_gl("setting up the frame");
+    }
+
+    void draw() const
+    {
+        const GLuint clear_id[4] = {background_id, 0, 0, 0};
+        const GLfloat clear_depth = 1.0f;
         glClearBufferuiv(GL_COLOR, 0, clear_id);
         glClearBufferfv(GL_DEPTH, 0, &clear_depth);
         glDrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
         glFinish();
-    };
-    ReferenceResult result;
-    result.name = "llvmpipe";
-    result.width = width;
-    result.height = height;
-    frame(); // warm-up: the first draw compiles the shaders for the rasterizer
-    check_gl("the warm-up frame");
-    while (!enough_frames(result.frame_ms, repeats, budget_ms)) {
-        auto t0 = std::chrono::steady_clock::now();
-        frame();
-        result.frame_ms.push_back(ms_since(t0));
     }
-    check_gl("drawing");
 
-    std::size_t pixels = std::size_t(width) * height;
-    std::vector<std::uint32_t> ids(pixels);
-    std::vector<float> window_z(pixels);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadBuffer(GL_COLOR_ATTACHMENT0);
-    glReadPixels(0, 0, width, height, GL_RED_INTEGER, GL_UNSIGNED_INT, ids.data());
-    glReadPixels(0, 0, width, height, GL_DEPTH_COMPONENT, GL_FLOAT, window_z.data());
-    check_gl("glReadPixels");
-    result.ids.resize(pixels);
-    result.depth.resize(pixels);
-    for (int j = 0; j < height; ++j) {
-        std::size_t from = std::size_t(height - 1 - j) * width, to = std::size_t(j) * width;
-        for (int i = 0; i < width; ++i) {
-            std::uint32_t id = ids[from + i];
-            result.ids[to + i] = id;
-            result.depth[to + i] =
-                id == background_id ? std::numeric_limits<float>::infinity() : view_depth(camera, window_z[from + i]);
+    /// Ids flipped to row 0 on top; depth as view depth.
+    void read_back()
+    {
+        const int width = result_.width, height = result_.height;
+        std::size_t pixels = std::size_t(width) * height;
+        std::vector<std::uint32_t> ids(pixels);
+        std::vector<float> window_z(pixels);
+        glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        glReadBuffer(GL_COLOR_ATTACHMENT0);
+        glReadPixels(0, 0, width, height, GL_RED_INTEGER, GL_UNSIGNED_INT, ids.data());
+        glReadPixels(0, 0, width, height, GL_DEPTH_COMPONENT, GL_FLOAT, window_z.data());
+        check_gl("glReadPixels");
+        result_.ids.resize(pixels);
+        result_.depth.resize(pixels);
+        for (int j = 0; j < height; ++j) {
+            std::size_t from = std::size_t(height - 1 - j) * width, to = std::size_t(j) * width;
+            for (int i = 0; i < width; ++i) {
+                std::uint32_t id = ids[from + i];
+                result_.ids[to + i] = id;
+                result_.depth[to + i] = id == background_id ? std::numeric_limits<float>::infinity()
+                                                           : view_depth(camera, window_z[from + i]);
+            }
         }
     }
-    return result;
+};
+
+std::unique_ptr<ReferenceView> GlReference::view(const Camera& camera, int width, int height)
+{
+    if (width <= 0 || height <= 0) throw std::runtime_error("gl: image size must be positive");
+    camera.validate();
+    return std::make_unique<View>(*impl_, camera, width, height);
+}
+
+ReferenceResult GlReference::render(const Camera& camera, int width, int height, int repeats, double budget_ms)
+{
+    std::unique_ptr<ReferenceView> v = view(camera, width, height);
+    std::vector<double> ms;
+    while (!enough_frames(ms, repeats, budget_ms)) ms.push_back(v->frame());
+    return v->result();
 }
 
 bool gl_available() noexcept { return true; }
@@ -297,18 +353,15 @@ bool gl_available() noexcept { return true; }
 
 namespace clvis::bench {
 
+constexpr const char* not_built = "gl: clvis was built without EGL and OpenGL (Debian: libegl-dev, libopengl-dev)";
+
 struct GlReference::Impl {};
 
-GlReference::GlReference(const Scene&, int)
-{
-    throw std::runtime_error("gl: clvis was built without EGL and OpenGL (Debian: libegl-dev, libopengl-dev)");
-}
+GlReference::GlReference(const Scene&, int) { throw std::runtime_error(not_built); }
 GlReference::~GlReference() = default;
 std::string GlReference::description() const { return "OpenGL (not built)"; }
-ReferenceResult GlReference::render(const Camera&, int, int, int, double)
-{
-    throw std::runtime_error("gl: clvis was built without EGL and OpenGL (Debian: libegl-dev, libopengl-dev)");
-}
+ReferenceResult GlReference::render(const Camera&, int, int, int, double) { throw std::runtime_error(not_built); }
+std::unique_ptr<ReferenceView> GlReference::view(const Camera&, int, int) { throw std::runtime_error(not_built); }
 bool gl_available() noexcept { return false; }
 
 } // namespace clvis::bench

@@ -36,8 +36,15 @@ public:
     /// std::runtime_error on a GL error.
     ReferenceResult render(const Camera& camera, int width, int height, int repeats, double budget_ms = 0);
 
+    /// One camera and image size for interleaved timing (the reference must outlive it; use it
+    /// from this thread), in a framebuffer of its own: frame() clears, draws and waits (glFinish);
+    /// result() reads back ids with row 0 on top and view depth. Draws the warm-up frame; throws
+    /// std::runtime_error naming the failing call.
+    std::unique_ptr<ReferenceView> view(const Camera& camera, int width, int height);
+
 private:
     struct Impl;
+    class View;
     std::unique_ptr<Impl> impl_;
 };
 

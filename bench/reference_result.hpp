@@ -24,4 +24,16 @@ struct ReferenceResult {
     bool ok() const { return error.empty(); }
 };
 
+/// One camera and image size of a reference renderer, framed one at a time so that `clvis bench`
+/// can interleave it with other renderers (A B A B ...). Made with one untimed warm-up frame.
+class ReferenceView {
+public:
+    virtual ~ReferenceView() = default;
+    /// One timed frame; returns its wall time (ms), also kept in result().frame_ms.
+    virtual double frame() = 0;
+    /// The last frame's ids and depth (read back, not timed) and every timed frame. Throws
+    /// std::runtime_error on a failure of the reference.
+    virtual const ReferenceResult& result() = 0;
+};
+
 } // namespace clvis::bench
