@@ -4,6 +4,8 @@
 // BenchConfig and calls run_bench. Ratios within one run are what count: the machine is shared.
 #pragma once
 
+#include "bench_stats.hpp"
+
 #include <clvis/device.hpp>
 
 #include <functional>
@@ -14,16 +16,24 @@ namespace clvis::bench {
 struct BenchConfig {
     bool quick = false;
     std::string out = "bench-out"; ///< output folder (created)
-    int repeat = 0;      ///< 0: up to 10 timed frames (5 with quick) within a time budget
+    int frames = 0;      ///< > 0: exactly this many timed frames per renderer and point
+    int passes = 1;      ///< --repeat: the whole sweep this many times, the spread reported across them
     int ref_threads = 2; ///< threads of the reference renderers (trace, raster and build)
     bool no_plot = false;
 };
+
+/// The stopping rule of a run: exactly config.frames frames, or until each median is known to
+/// 3 % (quick: 5 %) within 5..30 frames (quick 3..10) and a time budget per renderer and point.
+StopRule stop_rule(const BenchConfig& config);
+
+/// "clvis bench --out DIR ..." with the flags that shaped the run.
+std::string command_line(const BenchConfig& config);
 
 /// Runs the whole benchmark into config.out. When `open_device` throws, only the references are
 /// timed (the error is reported); throws Error(Io) when the output cannot be written.
 void run_bench(const BenchConfig& config, const std::function<Device()>& open_device);
 
-/// The ray-query workloads of bench_rays.cpp on `device` (config.quick, out, repeat, ref_threads,
+/// The ray-query workloads of bench_rays.cpp on `device` (config.quick, out, frames, ref_threads,
 /// no_plot): prints a table and writes bench-rays.json, bench-rays.csv and rays_mrays.png.
 void run_ray_bench(const BenchConfig& config, const Device& device);
 

@@ -205,7 +205,7 @@ void run_ray_bench(const BenchConfig& config, const Device& device)
     fs::create_directories(out_dir);
     int w = config.quick ? 480 : 960, h = config.quick ? 270 : 540, per_pixel = config.quick ? 4 : 8;
     std::size_t big = config.quick ? 100000 : 1000000, random_count = config.quick ? 200000 : 2000000;
-    int repeats = config.repeat > 0 ? config.repeat : 3;
+    int repeats = config.frames > 0 ? config.frames : 3;
     std::string bunny = bunny_path();
 
     std::vector<Workload> workloads;

@@ -11,7 +11,6 @@
 #include <ctime>
 #include <fstream>
 #include <iostream>
-#include <optional>
 
 namespace clvis::bench {
 
@@ -39,37 +38,38 @@ fs::path find_plot_script()
     return {};
 }
 
-/// clvis median / reference median, or nullopt when either is missing.
-std::optional<double> ratio(const Point& p, const std::string& a, const std::string& b)
+std::vector<double> samples_of(const Point& p, const char* renderer, bool build)
 {
-    const Run* ra = p.find(a);
-    const Run* rb = p.find(b);
-    if (!ra || !rb) return std::nullopt;
-    double mb = summarize(rb->frame_ms).median;
-    if (!(mb > 0)) return std::nullopt;
-    return summarize(ra->frame_ms).median / mb;
+    const Run* r = p.find(renderer);
+    if (!r) return {};
+    return build ? r->build_ms : r->frame_ms;
 }
 
-std::optional<double> build_ratio(const Point& p)
+/// Folds one pass's run into the pooled point: samples appended; a failure kept only while no
+/// pass has succeeded.
+void pool_run(Point& into, const Run& run)
 {
-    const Run* ray = p.find("ray");
-    const Run* e = p.find("embree-intersect1");
-    if (!ray || !e || ray->build_ms.empty() || e->build_ms.empty()) return std::nullopt;
-    double eb = summarize(e->build_ms).median;
-    if (!(eb > 0)) return std::nullopt;
-    return summarize(ray->build_ms).median / eb;
+    for (Run& q : into.runs) {
+        if (q.renderer != run.renderer) continue;
+        if (!run.error.empty()) return;
+        if (!q.error.empty()) {
+            q = run;
+            return;
+        }
+        q.frame_ms.insert(q.frame_ms.end(), run.frame_ms.begin(), run.frame_ms.end());
+        q.build_ms.insert(q.build_ms.end(), run.build_ms.begin(), run.build_ms.end());
+        return;
+    }
+    into.runs.push_back(run);
 }
 
-nlohmann::json optional_json(const std::optional<double>& v)
-{
-    return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
-}
 
 nlohmann::json summary_json(const std::vector<double>& samples)
 {
     Summary s = summarize(samples);
-    return {{"min", s.min}, {"p25", s.p25}, {"median", s.median}, {"p75", s.p75}, {"max", s.max},
-            {"samples", samples}};
+    Interval ci = median_ci(samples);
+    return {{"min", s.min},        {"p25", s.p25},       {"median", s.median}, {"p75", s.p75},
+            {"max", s.max},        {"median_ci", {ci.lo, ci.hi}}, {"samples", samples}};
 }
 
 std::string csv_field(const std::string& s)
@@ -83,57 +83,110 @@ std::string csv_field(const std::string& s)
     return out + "\"";
 }
 
-std::string cell(const std::optional<double>& v, const char* format, double target = 0)
+nlohmann::json run_json(const Run& r)
 {
-    if (!v) return "-";
-    std::string s = fmt(format, *v);
-    if (target > 0 && *v > target) s += "!";
-    return s;
+    nlohmann::json rj{{"renderer", r.renderer}, {"reference", r.reference}};
+    if (!r.error.empty()) {
+        rj["error"] = r.error;
+        return rj;
+    }
+    rj["frame_ms"] = summary_json(r.frame_ms);
+    if (!r.stages.empty()) {
+        nlohmann::json st = nlohmann::json::object();
+        for (const auto& s : r.stages) st[s.name] = s.ms;
+        rj["stages_ms"] = st;
+    }
+    if (!r.build_ms.empty()) rj["build_ms"] = summary_json(r.build_ms);
+    if (r.bvh_nodes) {
+        rj["bvh_nodes"] = r.bvh_nodes;
+        rj["bvh_depth"] = r.bvh_depth;
+    }
+    return rj;
 }
 
-std::string ms_cell(const Point& p, const std::string& renderer)
+/// Each pass's own figures at a point: rounds, load, medians and ratios.
+nlohmann::json pass_json(const Point& p)
 {
-    const Run* r = p.find(renderer);
-    return r ? fmt("%.2f", summarize(r->frame_ms).median) : "fail";
-}
-
-std::string verdict_cell(const Point& p, const std::string& a, const std::string& b)
-{
-    for (const auto& c : p.comparisons)
-        if (c.a == a && c.b == b) {
-            if (!c.error.empty()) return "n/a";
-            return std::to_string(c.report.errors) + "e/" + std::to_string(c.report.explained) + "x";
-        }
-    return "-";
+    nlohmann::json medians = nlohmann::json::object(), ratios = nlohmann::json::object();
+    for (const auto& r : p.runs)
+        if (p.find(r.renderer)) medians[r.renderer] = summarize(r.frame_ms).median;
+    for (const RatioDef& d : ratio_defs()) {
+        RatioSpread s = ratio_spread(samples_of(p, d.a, d.build), samples_of(p, d.b, d.build));
+        ratios[d.key] = s.valid() ? nlohmann::json(s.ratio) : nlohmann::json(nullptr);
+    }
+    return {{"pass", p.pass},
+            {"rounds", p.rounds},
+            {"load_before", load_json(p.load_before)},
+            {"load_after", load_json(p.load_after)},
+            {"median_ms", medians},
+            {"ratios", ratios}};
 }
 
 } // namespace
 
-nlohmann::json point_json(const Point& p)
+nlohmann::json load_json(const Load& l)
 {
+    if (!l.known()) return nullptr;
+    return nlohmann::json::array({l.one, l.five, l.fifteen});
+}
+
+const std::vector<RatioDef>& ratio_defs()
+{
+    static const std::vector<RatioDef> defs{
+        {"raster_over_llvmpipe", "raster", "llvmpipe", target_raster_over_llvmpipe, false},
+        {"ray_over_embree_intersect16", "ray", "embree-intersect16", target_ray_over_embree16, false},
+        {"ray_over_embree_intersect1", "ray", "embree-intersect1", 0, false},
+        {"bvh_build_over_embree_build", "ray", "embree-intersect1", target_build_over_embree, true},
+        {"raster_over_ray", "raster", "ray", 0, false}};
+    return defs;
+}
+
+std::vector<PooledPoint> pool_passes(const std::vector<Point>& points)
+{
+    std::vector<PooledPoint> out;
+    for (const Point& p : points) {
+        auto same = [&](const PooledPoint& q) {
+            return q.pooled.mesh == p.mesh && q.pooled.camera == p.camera && q.pooled.width == p.width &&
+                   q.pooled.height == p.height;
+        };
+        auto it = std::find_if(out.begin(), out.end(), same);
+        if (it == out.end()) {
+            out.push_back({p, {&p}});
+            continue;
+        }
+        it->passes.push_back(&p);
+        it->pooled.rounds += p.rounds;
+        for (const Run& r : p.runs) pool_run(it->pooled, r);
+    }
+    return out;
+}
+
+RatioFigure ratio_figure(const PooledPoint& p, const RatioDef& d)
+{
+    RatioFigure f;
+    f.pooled = ratio_spread(samples_of(p.pooled, d.a, d.build), samples_of(p.pooled, d.b, d.build));
+    if (!f.valid()) return f;
+    f.lo = f.pooled.lo;
+    f.hi = f.pooled.hi;
+    for (const Point* pass : p.passes) {
+        RatioSpread r = ratio_spread(samples_of(*pass, d.a, d.build), samples_of(*pass, d.b, d.build));
+        if (!r.valid()) continue;
+        f.passes.push_back(r.ratio);
+        f.lo = std::min(f.lo, r.ratio);
+        f.hi = std::max(f.hi, r.ratio);
+    }
+    return f;
+}
+
+nlohmann::json point_json(const PooledPoint& pp)
+{
+    const Point& p = pp.pooled;
     nlohmann::json j{{"mesh", p.mesh},   {"camera", p.camera},   {"sweeps", p.sweeps},
                      {"triangles", p.triangles}, {"width", p.width}, {"height", p.height},
-                     {"camera_flags", p.camera_flags}};
+                     {"camera_flags", p.camera_flags}, {"rounds", p.rounds}};
     j["coverage"] = p.coverage >= 0 ? nlohmann::json(p.coverage) : nlohmann::json(nullptr);
     j["runs"] = nlohmann::json::array();
-    for (const auto& r : p.runs) {
-        nlohmann::json rj{{"renderer", r.renderer}, {"reference", r.reference}};
-        if (!r.error.empty()) rj["error"] = r.error;
-        else {
-            rj["frame_ms"] = summary_json(r.frame_ms);
-            if (!r.stages.empty()) {
-                nlohmann::json st = nlohmann::json::object();
-                for (const auto& s : r.stages) st[s.name] = s.ms;
-                rj["stages_ms"] = st;
-            }
-            if (!r.build_ms.empty()) rj["build_ms"] = summary_json(r.build_ms);
-            if (r.bvh_nodes) {
-                rj["bvh_nodes"] = r.bvh_nodes;
-                rj["bvh_depth"] = r.bvh_depth;
-            }
-        }
-        j["runs"].push_back(rj);
-    }
+    for (const auto& r : p.runs) j["runs"].push_back(run_json(r));
     j["comparisons"] = nlohmann::json::array();
     for (const auto& c : p.comparisons) {
         nlohmann::json cj{{"a", c.a}, {"b", c.b}};
@@ -144,11 +197,21 @@ nlohmann::json point_json(const Point& p)
                        {"errors_a", c.report.errors_a},   {"errors_b", c.report.errors_b}});
         j["comparisons"].push_back(cj);
     }
-    j["ratios"] = {{"raster_over_llvmpipe", optional_json(ratio(p, "raster", "llvmpipe"))},
-                   {"ray_over_embree_intersect1", optional_json(ratio(p, "ray", "embree-intersect1"))},
-                   {"ray_over_embree_intersect16", optional_json(ratio(p, "ray", "embree-intersect16"))},
-                   {"bvh_build_over_embree_build", optional_json(build_ratio(p))},
-                   {"raster_over_ray", optional_json(ratio(p, "raster", "ray"))}};
+    j["ratios"] = nlohmann::json::object();
+    j["ratio_spread"] = nlohmann::json::object();
+    for (const RatioDef& d : ratio_defs()) {
+        RatioFigure f = ratio_figure(pp, d);
+        j["ratios"][d.key] = f.valid() ? nlohmann::json(f.pooled.ratio) : nlohmann::json(nullptr);
+        if (!f.valid()) continue;
+        nlohmann::json sj{{"lo", f.lo}, {"hi", f.hi}, {"ci", {f.pooled.lo, f.pooled.hi}}, {"passes", f.passes}};
+        if (d.target > 0) {
+            sj["target"] = d.target;
+            sj["verdict"] = to_string(judge(f.lo, f.hi, d.target));
+        }
+        j["ratio_spread"][d.key] = sj;
+    }
+    j["passes"] = nlohmann::json::array();
+    for (const Point* pass : pp.passes) j["passes"].push_back(pass_json(*pass));
     return j;
 }
 
@@ -156,20 +219,25 @@ void write_csv(const fs::path& file, const std::vector<Point>& points)
 {
     std::ofstream out(file);
     if (!out) throw Error(Error::Kind::Io, file.string() + ": cannot write");
-    out << "mesh,camera,sweeps,triangles,width,height,renderer,frames,frame_min_ms,frame_p25_ms,frame_median_ms,"
-           "frame_p75_ms,frame_max_ms,build_median_ms,build_min_ms,bvh_nodes,stages_ms,error\n";
+    out << "mesh,camera,sweeps,triangles,width,height,pass,rounds,load1_before,load1_after,renderer,frames,"
+           "frame_min_ms,frame_p25_ms,frame_median_ms,frame_p75_ms,frame_max_ms,median_ci_lo_ms,median_ci_hi_ms,"
+           "build_median_ms,build_min_ms,bvh_nodes,stages_ms,error\n";
     for (const auto& p : points) {
         std::string sweeps;
         for (const auto& s : p.sweeps) sweeps += (sweeps.empty() ? "" : "+") + s;
+        auto load1 = [](const Load& l) { return l.known() ? fmt("%.2f", l.one) : std::string(); };
         for (const auto& r : p.runs) {
             Summary f = summarize(r.frame_ms), b = summarize(r.build_ms);
+            Interval ci = median_ci(r.frame_ms);
             std::string stages;
             for (const auto& s : r.stages) stages += (stages.empty() ? "" : ";") + s.name + "=" + fmt("%.4f", s.ms);
             out << csv_field(p.mesh) << ',' << p.camera << ',' << sweeps << ',' << p.triangles << ',' << p.width << ','
-                << p.height << ',' << r.renderer << ',' << f.n << ',' << f.min << ',' << f.p25 << ',' << f.median << ','
-                << f.p75 << ',' << f.max << ',' << (b.n ? fmt("%.4f", b.median) : "") << ','
-                << (b.n ? fmt("%.4f", b.min) : "") << ',' << (r.bvh_nodes ? std::to_string(r.bvh_nodes) : "") << ','
-                << csv_field(stages) << ',' << csv_field(r.error) << '\n';
+                << p.height << ',' << p.pass << ',' << p.rounds << ',' << load1(p.load_before) << ','
+                << load1(p.load_after) << ',' << r.renderer << ',' << f.n << ',' << f.min << ',' << f.p25 << ','
+                << f.median << ',' << f.p75 << ',' << f.max << ',' << ci.lo << ',' << ci.hi << ','
+                << (b.n ? fmt("%.4f", b.median) : "") << ',' << (b.n ? fmt("%.4f", b.min) : "") << ','
+                << (r.bvh_nodes ? std::to_string(r.bvh_nodes) : "") << ',' << csv_field(stages) << ','
+                << csv_field(r.error) << '\n';
         }
     }
     if (!out) throw Error(Error::Kind::Io, file.string() + ": write failed");
@@ -181,59 +249,6 @@ std::string utc_now()
     char buf[32];
     std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
     return buf;
-}
-
-void print_table(const std::vector<Point>& points)
-{
-    std::printf("\nMedian frame times (ms) and clvis / reference ratios; '!' misses the target "
-                "(raster/llvmpipe <= %.1f, ray/rtcIntersect1 <= %.1f, BVH build/Embree build <= %.1f).\n"
-                "Referee columns: pixels with an unacceptable answer (e) / explained mismatches (x).\n",
-                target_raster_over_llvmpipe, target_ray_over_embree1, target_build_over_embree);
-    std::printf("%-18s %-7s %8s %9s %5s | %8s %8s %6s | %8s %8s %6s %8s %6s | %8s %8s %6s | %8s | %-10s %-10s %-10s "
-                "%-10s %-10s\n",
-                "mesh", "camera", "tris", "size", "cover", "raster", "llvmpipe", "r/gl", "ray", "e-1", "ray/e1", "e-16",
-                "ray/16", "bvh", "e-build", "b/e", "brute", "raster|ray", "raster|gl", "ray|e1", "ray|e16", "brute|ray");
-    for (const auto& p : points) {
-        const Run* ray = p.find("ray");
-        const Run* em = p.find("embree-intersect1");
-        std::string size = std::to_string(p.width) + "x" + std::to_string(p.height);
-        std::string bvh = ray && !ray->build_ms.empty() ? fmt("%.1f", summarize(ray->build_ms).median) : "-";
-        std::string eb = em && !em->build_ms.empty() ? fmt("%.1f", summarize(em->build_ms).median) : "-";
-        std::string cover = p.coverage >= 0 ? fmt("%.0f%%", 100 * p.coverage) : "-";
-        std::string brute = p.find("brute") ? ms_cell(p, "brute") : "-";
-        std::printf("%-18s %-7s %8zu %9s %5s | %8s %8s %6s | %8s %8s %6s %8s %6s | %8s %8s %6s | %8s | %-10s %-10s %-10s "
-                    "%-10s %-10s\n",
-                    p.mesh.c_str(), p.camera.c_str(), p.triangles, size.c_str(), cover.c_str(), ms_cell(p, "raster").c_str(),
-                    ms_cell(p, "llvmpipe").c_str(),
-                    cell(ratio(p, "raster", "llvmpipe"), "%.2f", target_raster_over_llvmpipe).c_str(),
-                    ms_cell(p, "ray").c_str(), ms_cell(p, "embree-intersect1").c_str(),
-                    cell(ratio(p, "ray", "embree-intersect1"), "%.2f", target_ray_over_embree1).c_str(),
-                    ms_cell(p, "embree-intersect16").c_str(), cell(ratio(p, "ray", "embree-intersect16"), "%.2f").c_str(),
-                    bvh.c_str(), eb.c_str(), cell(build_ratio(p), "%.2f", target_build_over_embree).c_str(),
-                    brute.c_str(), verdict_cell(p, "raster", "ray").c_str(), verdict_cell(p, "raster", "llvmpipe").c_str(),
-                    verdict_cell(p, "ray", "embree-intersect1").c_str(),
-                    verdict_cell(p, "ray", "embree-intersect16").c_str(), verdict_cell(p, "brute", "ray").c_str());
-    }
-    // Failures, once per renderer and message.
-    std::vector<std::string> seen;
-    for (const auto& p : points)
-        for (const auto& r : p.runs) {
-            if (r.error.empty()) continue;
-            std::string line = r.renderer + ": " + r.error;
-            if (std::find(seen.begin(), seen.end(), line) != seen.end()) continue;
-            seen.push_back(line);
-            std::printf("failed: %s (first at %s %s %dx%d)\n", line.c_str(), p.mesh.c_str(), p.camera.c_str(), p.width,
-                        p.height);
-        }
-    for (const auto& p : points)
-        for (const auto& c : p.comparisons) {
-            if (c.error.empty()) continue;
-            std::string line = c.a + " vs " + c.b + ": " + c.error;
-            if (std::find(seen.begin(), seen.end(), line) != seen.end()) continue;
-            seen.push_back(line);
-            std::printf("not compared: %s\n", line.c_str());
-        }
-    std::fflush(stdout);
 }
 
 void plot(const fs::path& json, const fs::path& out_dir)

@@ -12,7 +12,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <optional>
+#include <stdexcept>
 
 namespace clvis::bench {
 
@@ -38,34 +40,36 @@ void Progress::finish()
 
 namespace {
 
-/// Times one clvis path: one untimed warm-up, then `repeat` frames (fewer past `budget_ms`);
-/// never throws.
-Run run_clvis(Renderer& renderer, const Camera& camera, int width, int height, Path path, int repeat,
-              double budget_ms)
-{
-    Run run;
-    run.renderer = to_string(path);
-    try {
+/// One clvis path at one point, framed by the interleaved rounds: its target and the stages of
+/// its fastest frame.
+struct ClvisLane {
+    Renderer& renderer;
+    Camera camera;
+    Path path;
+    VisibilityBuffer target;
+    double best = INFINITY;
+    std::vector<StageTiming> stages;
+
+    /// Prepares the path and renders one untimed warm-up frame (first launches compile per
+    /// work-group size). Throws on failure.
+    ClvisLane(Renderer& r, const Camera& c, int width, int height, Path p) : renderer(r), camera(c), path(p)
+    {
         renderer.prepare(path);
-        VisibilityBuffer target(renderer.device(), width, height);
-        renderer.render(camera, path, target); // warm-up: first launches compile per work-group size
-        double best = INFINITY;
-        while (!enough_frames(run.frame_ms, repeat, budget_ms)) {
-            renderer.render(camera, path, target);
-            const FrameTiming& t = renderer.last_frame();
-            run.frame_ms.push_back(t.frame_ms);
-            if (t.frame_ms < best) {
-                best = t.frame_ms;
-                run.stages = t.stages;
-            }
-        }
-        run.vis = target.read();
-    } catch (const std::exception& e) {
-        run.error = e.what();
-        run.frame_ms.clear();
+        target = VisibilityBuffer(renderer.device(), width, height);
+        renderer.render(camera, path, target);
     }
-    return run;
-}
+
+    double frame()
+    {
+        renderer.render(camera, path, target);
+        const FrameTiming& t = renderer.last_frame();
+        if (t.frame_ms < best) {
+            best = t.frame_ms;
+            stages = t.stages;
+        }
+        return t.frame_ms;
+    }
+};
 
 Run from_reference(ReferenceResult r)
 {
@@ -180,9 +184,10 @@ void fail_views(const Workload& w, const std::string& error, std::vector<Point>&
     }
 }
 
-/// clvis: one renderer for every view; the BVH is built once here (first prepare of the ray
-/// path) and again by fresh renderers for the further timed builds.
-void make_clvis(Context& ctx, const Workload& w, const Scene& scene, int builds, Renderers& r, Progress& progress)
+/// The renderers of one workload and their timed builds, alternating: clvis's first build (the
+/// first prepare of the ray path), Embree's first (its constructor), then a fresh clvis renderer
+/// and an Embree rebuild in turn, so that a change of load falls on both builders alike.
+void make_renderers(Context& ctx, const Workload& w, const Scene& scene, int builds, Renderers& r, Progress& progress)
 {
     r.clvis_error = ctx.device_error;
     if (r.clvis_error.empty()) {
@@ -193,32 +198,41 @@ void make_clvis(Context& ctx, const Workload& w, const Scene& scene, int builds,
             r.clvis_error = e.what();
         }
     }
-    if (!r.clvis) return;
-    // A failing build is left to the ray runs, which report it per point.
-    try {
-        progress.show(w.mesh + ": clvis BVH build");
-        r.clvis->prepare(Path::Ray);
-        r.bvh = r.clvis->bvh_stats();
-        r.clvis_builds.push_back(r.bvh.build_ms);
-        for (int b = 1; b < builds; ++b) {
+    // A failing clvis build is left to the ray runs, which report it per point.
+    bool clvis_builds = r.clvis.has_value();
+    auto clvis_build = [&](bool first) {
+        if (!clvis_builds) return;
+        try {
+            if (first) {
+                r.clvis->prepare(Path::Ray);
+                r.bvh = r.clvis->bvh_stats();
+                r.clvis_builds.push_back(r.bvh.build_ms);
+                return;
+            }
             Renderer fresh(ctx.device, scene);
             fresh.prepare(Path::Ray);
             r.clvis_builds.push_back(fresh.bvh_stats().build_ms);
+        } catch (const std::exception&) {
+            r.clvis_builds.clear();
+            clvis_builds = false;
         }
-    } catch (const std::exception&) {
-        r.clvis_builds.clear();
-    }
-}
-
-void make_references(Context& ctx, const Workload& w, const Scene& scene, int builds, Renderers& r,
-                     Progress& progress)
-{
+    };
+    progress.show(w.mesh + ": BVH builds");
+    clvis_build(true);
     try {
-        progress.show(w.mesh + ": Embree build");
-        r.embree.emplace(scene, ctx.config.ref_threads, builds);
+        r.embree.emplace(scene, ctx.config.ref_threads, 1);
         ctx.embree_description = r.embree->description();
     } catch (const std::exception& e) {
         r.embree_error = e.what();
+    }
+    for (int b = 1; b < builds; ++b) {
+        clvis_build(false);
+        try {
+            if (r.embree) r.embree->rebuild(scene);
+        } catch (const std::exception& e) {
+            r.embree.reset();
+            r.embree_error = e.what();
+        }
     }
     try {
         progress.show(w.mesh + ": GL upload");
@@ -229,56 +243,108 @@ void make_references(Context& ctx, const Workload& w, const Scene& scene, int bu
     }
 }
 
-void run_clvis_paths(const Context& ctx, Renderers& r, const Camera& camera, const std::string& label, Point& p,
-                     Progress& progress)
+/// Everything timed at one point, in the order of Point::runs: each renderer's lane, made (and
+/// warmed up) before the rounds, or the error that kept it out.
+struct PointLanes {
+    std::vector<std::unique_ptr<ClvisLane>> clvis;
+    std::vector<std::unique_ptr<ReferenceView>> references;
+    std::vector<Lane> lanes;
+    std::vector<Run> runs; ///< one per lane: name, reference, error of its set-up
+};
+
+template <class Make> void add_lane(PointLanes& pl, const std::string& name, bool reference, int max_frames, Make make)
+{
+    Run run = failed_run(name, reference, "");
+    Lane lane;
+    lane.name = name;
+    lane.max_frames = max_frames;
+    try {
+        lane.frame = make();
+    } catch (const std::exception& e) {
+        run.error = e.what();
+    }
+    if (!run.error.empty()) lane.error = run.error;
+    pl.runs.push_back(std::move(run));
+    pl.lanes.push_back(std::move(lane));
+}
+
+void make_lanes(const Context& ctx, Renderers& r, const Camera& camera, const std::string& label, const Point& p,
+                PointLanes& pl, Progress& progress)
 {
     const double brute_budget = ctx.config.quick ? brute_max_tests_quick : brute_max_tests_full;
     std::vector<Path> paths{Path::Raster, Path::Ray};
     if (p.triangles <= brute_max_triangles && double(p.triangles) * p.width * p.height <= brute_budget)
         paths.push_back(Path::Brute);
     for (Path path : paths) {
-        progress.show(label + ": clvis " + to_string(path));
-        int frames = path == Path::Brute ? std::min(ctx.repeat, brute_repeat) : ctx.repeat;
-        Run run = r.clvis ? run_clvis(*r.clvis, camera, p.width, p.height, path, frames, ctx.budget_ms)
-                          : failed_run(to_string(path), false, r.clvis_error);
-        if (path == Path::Ray && run.error.empty()) {
-            run.build_ms = r.clvis_builds;
-            run.bvh_nodes = r.bvh.nodes;
-            run.bvh_depth = r.bvh.depth;
+        progress.show(label + ": clvis " + to_string(path) + " warm-up");
+        add_lane(pl, to_string(path), false, path == Path::Brute ? brute_repeat : 0, [&]() -> std::function<double()> {
+            if (!r.clvis) throw std::runtime_error(r.clvis_error);
+            pl.clvis.push_back(std::make_unique<ClvisLane>(*r.clvis, camera, p.width, p.height, path));
+            return [l = pl.clvis.back().get()] { return l->frame(); };
+        });
+    }
+    for (auto mode : {EmbreeMode::Single, EmbreeMode::Packet16}) {
+        std::string name = mode == EmbreeMode::Single ? "embree-intersect1" : "embree-intersect16";
+        progress.show(label + ": " + name + " warm-up");
+        add_lane(pl, name, true, 0, [&]() -> std::function<double()> {
+            if (!r.embree) throw std::runtime_error(r.embree_error);
+            pl.references.push_back(r.embree->view(camera, p.width, p.height, mode));
+            return [v = pl.references.back().get()] { return v->frame(); };
+        });
+    }
+    progress.show(label + ": llvmpipe warm-up");
+    add_lane(pl, "llvmpipe", true, 0, [&]() -> std::function<double()> {
+        if (!r.gl) throw std::runtime_error(r.gl_error);
+        pl.references.push_back(r.gl->view(camera, p.width, p.height));
+        return [v = pl.references.back().get()] { return v->frame(); };
+    });
+}
+
+/// A set-up lane's figures after the rounds: stages, builds and buffer. Throws when a
+/// reference's result fails.
+void collect_run(Renderers& r, PointLanes& pl, const Lane& lane, Run& run, std::size_t& next_clvis,
+                 std::size_t& next_reference)
+{
+    if (run.reference) {
+        run.vis = std::move(from_reference(pl.references[next_reference++]->result()).vis);
+        if (run.renderer == "embree-intersect1" || run.renderer == "embree-intersect16")
+            run.build_ms = r.embree->build_samples_ms();
+        return;
+    }
+    ClvisLane& c = *pl.clvis[next_clvis++];
+    if (!lane.error.empty()) return;
+    run.stages = c.stages;
+    run.vis = c.target.read();
+    if (c.path == Path::Ray) {
+        run.build_ms = r.clvis_builds;
+        run.bvh_nodes = r.bvh.nodes;
+        run.bvh_depth = r.bvh.depth;
+    }
+}
+
+/// The runs of one point after its rounds, in lane order.
+void collect_runs(Renderers& r, PointLanes& pl, Point& p)
+{
+    std::size_t next_clvis = 0, next_reference = 0;
+    for (std::size_t k = 0; k < pl.lanes.size(); ++k) {
+        Run run = std::move(pl.runs[k]);
+        Lane& lane = pl.lanes[k];
+        if (run.error.empty()) {
+            try {
+                collect_run(r, pl, lane, run, next_clvis, next_reference);
+            } catch (const std::exception& e) {
+                lane.error = e.what();
+            }
+            run.error = lane.error;
         }
+        if (run.error.empty()) run.frame_ms = std::move(lane.ms);
+        else run.vis = HostVisibility{};
         p.runs.push_back(std::move(run));
     }
 }
 
-void run_references(const Context& ctx, Renderers& r, const Camera& camera, const std::string& label, Point& p,
-                    Progress& progress)
-{
-    for (auto mode : {EmbreeMode::Single, EmbreeMode::Packet16}) {
-        std::string name = mode == EmbreeMode::Single ? "embree-intersect1" : "embree-intersect16";
-        progress.show(label + ": " + name);
-        if (!r.embree) {
-            p.runs.push_back(failed_run(name, true, r.embree_error));
-            continue;
-        }
-        try {
-            p.runs.push_back(from_reference(r.embree->render(camera, p.width, p.height, mode, ctx.repeat, ctx.budget_ms)));
-        } catch (const std::exception& e) {
-            p.runs.push_back(failed_run(name, true, e.what()));
-        }
-    }
-    progress.show(label + ": llvmpipe");
-    if (!r.gl) {
-        p.runs.push_back(failed_run("llvmpipe", true, r.gl_error));
-        return;
-    }
-    try {
-        p.runs.push_back(from_reference(r.gl->render(camera, p.width, p.height, ctx.repeat, ctx.budget_ms)));
-    } catch (const std::exception& e) {
-        p.runs.push_back(failed_run("llvmpipe", true, e.what()));
-    }
-}
-
-/// One view: every renderer timed, their buffers judged, then dropped.
+/// One view: every renderer warmed up, then timed in interleaved rounds, their buffers judged,
+/// then dropped.
 Point run_view(const Context& ctx, const Workload& w, const ViewSpec& v, const Scene& scene, Renderers& r,
                Progress& progress)
 {
@@ -289,8 +355,15 @@ Point run_view(const Context& ctx, const Workload& w, const ViewSpec& v, const S
     if (v.closeup) camera = closeup_of(camera, scene.bounds());
     p.camera_flags = camera.to_flags();
 
-    run_clvis_paths(ctx, r, camera, label, p, progress);
-    run_references(ctx, r, camera, label, p, progress);
+    {
+        PointLanes pl;
+        make_lanes(ctx, r, camera, label, p, pl, progress);
+        progress.show(label + ": timing, interleaved");
+        p.load_before = read_load();
+        p.rounds = interleave(pl.lanes, ctx.rule);
+        p.load_after = read_load();
+        collect_runs(r, pl, p);
+    }
     progress.show(label + ": referee");
     compare_runs(p, scene, camera);
     for (const auto& run : p.runs)
@@ -303,9 +376,8 @@ Point run_view(const Context& ctx, const Workload& w, const ViewSpec& v, const S
     return p;
 }
 
-} // namespace
-
-void run_workload(Context& ctx, const Workload& w, std::vector<Point>& points, Progress& progress)
+/// Every view of one workload.
+void run_views(Context& ctx, const Workload& w, std::vector<Point>& points, Progress& progress)
 {
     progress.show(w.mesh + ": loading");
     std::string scene_error;
@@ -317,12 +389,20 @@ void run_workload(Context& ctx, const Workload& w, std::vector<Point>& points, P
     const std::size_t triangles = scene->triangle_count();
     const int builds = triangles > single_build_above ? 1 : ctx.config.quick ? 2 : 3;
     Renderers r;
-    make_clvis(ctx, w, *scene, builds, r, progress);
-    make_references(ctx, w, *scene, builds, r, progress);
+    make_renderers(ctx, w, *scene, builds, r, progress);
     for (const auto& v : w.views) {
         points.push_back(run_view(ctx, w, v, *scene, r, progress));
         progress.advance();
     }
+}
+
+} // namespace
+
+void run_workload(Context& ctx, const Workload& w, std::vector<Point>& points, Progress& progress)
+{
+    const std::size_t first = points.size();
+    run_views(ctx, w, points, progress);
+    for (std::size_t k = first; k < points.size(); ++k) points[k].pass = ctx.pass;
 }
 
 } // namespace clvis::bench

@@ -4,7 +4,9 @@
 #pragma once
 
 #include "bench.hpp"
+#include "bench_machine.hpp"
 #include "bench_plan.hpp"
+#include "bench_stats.hpp"
 
 #include <clvis/host_visibility.hpp>
 #include <clvis/referee.hpp>
@@ -42,7 +44,10 @@ struct Point {
     int width = 0, height = 0;
     std::string camera_flags;
     double coverage = -1; ///< fraction of pixels with a triangle (first buffer available), -1 if none
-    std::vector<Run> runs;
+    int pass = 0;   ///< which pass of the whole sweep (--repeat), 0-based
+    int rounds = 0; ///< interleaved rounds timed (each renderer one frame per round)
+    Load load_before, load_after; ///< /proc/loadavg around the rounds
+    std::vector<Run> runs; ///< raster, ray, [brute,] embree-intersect1, embree-intersect16, llvmpipe
     std::vector<Comparison> comparisons;
 
     const Run* find(const std::string& renderer) const
@@ -69,14 +74,15 @@ private:
 /// What every workload of one run shares.
 struct Context {
     const BenchConfig& config;
-    int repeat;
-    double budget_ms; ///< 0 with an explicit repeat: exactly `repeat` frames
+    StopRule rule; ///< when each renderer at a point has enough frames (brute stops at brute_repeat)
+    int pass = 0;  ///< the pass of the whole sweep being run (--repeat)
     Device device;
     std::string device_error; ///< why there is no device: clvis's runs fail with it
     std::string embree_description, gl_description;
 };
 
-/// Every point of one workload, appended to `points`.
+/// Every point of one workload, appended to `points`: at each point every renderer is warmed
+/// up, then timed in interleaved rounds (bench_stats.hpp, interleave) under ctx.rule.
 void run_workload(Context& ctx, const Workload& w, std::vector<Point>& points, Progress& progress);
 
 } // namespace clvis::bench

@@ -29,10 +29,13 @@ void add_bench_command(CLI::App& app)
     cmd->add_flag("--quick", c.quick, "a sweep of a few small points (under a minute on 2 cores)");
     cmd->add_option("--out", c.out, "output folder (created)");
     args->device.add_to(*cmd);
-    cmd->add_option("--repeat", c.repeat,
-                    "exactly N timed frames per renderer and point after one warm-up (default: up to 10, "
-                    "quick 5, stopping after 3 once they add up to 3 s, quick 1.5 s)")
+    cmd->add_option("--frames", c.frames,
+                    "exactly N timed frames per renderer and point after one warm-up (default: until each median "
+                    "is known to 3 %, quick 5 %, within 5..30 frames, quick 3..10, and 3 s, quick 1.5 s)")
         ->check(CLI::Range(1, 100000));
+    cmd->add_option("--repeat", c.passes,
+                    "run the whole sweep K times; ratios pool every pass and report the spread across passes")
+        ->check(CLI::Range(1, 1000));
     cmd->add_option("--ref-threads", c.ref_threads, "threads of the reference renderers (default 2)")
         ->check(CLI::Range(1, 1024));
     cmd->add_flag("--no-plot", c.no_plot, "skip the plots (bench/plot.py, matplotlib)");
