@@ -10,25 +10,16 @@
 
 Run with Debian's interpreter, which has matplotlib: /usr/bin/python3 bench/plot.py bench.json OUT_DIR
 """
-import json
 import math
 import os
 import sys
 
-import matplotlib
+from plot_common import RENDERER_STYLE, plt, read_run, save
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402  (the backend is chosen first)
-
-RENDERERS = [
-    # (name in bench.json, label, colour, line style)
-    ("raster", "clvis raster", "tab:blue", "-"),
-    ("ray", "clvis ray", "tab:orange", "-"),
-    ("brute", "clvis brute", "tab:gray", "-"),
-    ("llvmpipe", "llvmpipe (Mesa)", "tab:blue", "--"),
-    ("embree-intersect1", "Embree rtcIntersect1", "tab:orange", "--"),
-    ("embree-intersect16", "Embree rtcIntersect16", "tab:red", ":"),
-]
+# (name in bench.json, label, colour, line style): clvis solid, the references dashed or dotted.
+RENDERERS = [(name,) + RENDERER_STYLE[name] + (style,)
+             for name, style in (("raster", "-"), ("ray", "-"), ("brute", "-"), ("llvmpipe", "--"),
+                                 ("embree-intersect1", "--"), ("embree-intersect16", ":"))]
 
 
 def run_of(point, renderer):
@@ -84,10 +75,7 @@ def finish(fig, ax, data, title, path):
     ax.set_title(title + "\n" + subtitle(data), fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    print("wrote " + path)
+    save(fig, path)
 
 
 def time_vs_triangles(data, out):
@@ -193,13 +181,10 @@ def build_vs_triangles(data, out):
 
 
 def main(argv):
-    if len(argv) != 3:
-        sys.stderr.write("usage: plot.py bench.json OUT_DIR\n")
+    run = read_run(argv, "usage: plot.py bench.json OUT_DIR")
+    if run is None:
         return 2
-    with open(argv[1]) as f:
-        data = json.load(f)
-    out = argv[2]
-    os.makedirs(out, exist_ok=True)
+    data, out = run
     time_vs_triangles(data, out)
     time_vs_resolution(data, out)
     crossover(data, out)

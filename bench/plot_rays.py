@@ -7,32 +7,22 @@ single rays and 16-wide packets.
 Run with Debian's interpreter, which has matplotlib:
   /usr/bin/python3 bench/plot_rays.py bench-rays.json OUT_DIR
 """
-import json
 import os
 import sys
 
-import matplotlib
+from plot_common import RENDERER_STYLE, plt, read_run, save
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402  (the backend is chosen first)
-
-RENDERERS = [
-    # (name in bench-rays.json, label, colour, hatch)
-    ("clvis-closest", "clvis closest", "tab:orange", ""),
-    ("embree-intersect1", "Embree rtcIntersect1", "tab:red", ""),
-    ("embree-intersect16", "Embree rtcIntersect16", "tab:red", "//"),
-    ("clvis-any", "clvis any", "tab:blue", ""),
-    ("embree-occluded1", "Embree rtcOccluded1", "tab:purple", ""),
-    ("embree-occluded16", "Embree rtcOccluded16", "tab:purple", "//"),
-]
+# (name in bench-rays.json, label, colour, hatch): 16-wide packets hatched.
+RENDERERS = [(name,) + RENDERER_STYLE[name] + ("//" if name.endswith("16") else "",)
+             for name in ("clvis-closest", "embree-intersect1", "embree-intersect16", "clvis-any",
+                          "embree-occluded1", "embree-occluded16")]
 
 
 def main(argv):
-    if len(argv) != 3:
-        print(__doc__)
+    run = read_run(argv, __doc__)
+    if run is None:
         return 2
-    with open(argv[1]) as f:
-        data = json.load(f)
+    data, out = run
     workloads = data["workloads"]
     fig, ax = plt.subplots(figsize=(9, 4.5))
     width = 0.8 / len(RENDERERS)
@@ -50,10 +40,7 @@ def main(argv):
     ax.set_title("Ray queries on %s; Embree on %d threads" % (data["device"], data["threads"]), fontsize=10)
     ax.legend(fontsize=8, ncol=2)
     ax.grid(axis="y", alpha=0.3)
-    fig.tight_layout()
-    path = os.path.join(argv[2], "rays_mrays.png")
-    fig.savefig(path, dpi=110)
-    print("wrote", path)
+    save(fig, os.path.join(out, "rays_mrays.png"), dpi=110)
     return 0
 
 
