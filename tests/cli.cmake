@@ -31,6 +31,8 @@ expect(2 "--bogus" render ${MESH} --bogus)
 expect(2 "--path" render ${MESH} --path zbuffer)
 expect(2 "--fov.*--ortho|--ortho.*--fov" render ${MESH} --fov 30 --ortho 2)
 expect(2 "--repeat" render ${MESH} --repeat -1)
+expect(2 "--repeat" bench --repeat 0)
+expect(2 "--frames" bench --frames 0)
 expect(2 "clvis: --eye: expected 3 numbers" render ${MESH} --eye 1,2 --target 0,0,0)
 expect(2 "clvis: --target: is needed with --eye" render ${MESH} --eye 1,2,3)
 expect(2 "clvis: --ortho: the view height must be > 0" render ${MESH} --ortho 0)
@@ -47,6 +49,9 @@ expect(0 "render" --help)
 expect(0 "clvis [0-9]" --version)
 
 set(size --width 64 --height 48 --quiet)
+# --timings: what a one-off render pays before its first frame, phase by phase.
+expect(0 "first frame: device open [0-9.]+ ms, renderer \\(upload\\) [0-9.]+ ms; raster: prepare \\(programs\\) [0-9.]+ ms, first frame [0-9.]+ ms, next [0-9.]+ ms"
+       render ${MESH} --width 64 --height 48 --timings)
 if(WITH_IMAGE_IO)
   # Unsupported extensions are refused before rendering, listing the formats written.
   expect(2 "--image: .*out.xyz.*\\.exr.*\\.png" render ${MESH} --image ${WORK}/out.xyz)

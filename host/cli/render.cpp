@@ -36,6 +36,7 @@ struct RenderArgs {
     int leaf = 4;
     bool json = false;
     bool quiet = false;
+    bool timings = false; ///< --timings: what the first frame costs, phase by phase
     int width = 0, height = 0; ///< the image size, once resolved
 };
 
@@ -140,6 +141,8 @@ struct PathResult {
     double build_ms = 0;
     BvhStats bvh;
     HostVisibility vis;
+    double prepare_ms = 0;     ///< host wall time of prepare(): programs built, BVH built (ray)
+    double first_frame_ms = -1; ///< host wall time of the first render() (the warm-up), -1 if none
 };
 
 using NameFn = std::function<std::string(const std::string&)>;
@@ -213,7 +216,9 @@ PathResult run_path(Renderer& renderer, const std::vector<Camera>& cameras, cons
 {
     PathResult r;
     r.path = path;
+    auto t_prepare = std::chrono::steady_clock::now();
     renderer.prepare(path);
+    r.prepare_ms = bench::ms_since(t_prepare);
     if (path == Path::Ray) {
         r.bvh = renderer.bvh_stats();
         r.build_ms = r.bvh.build_ms;
@@ -227,7 +232,11 @@ PathResult run_path(Renderer& renderer, const std::vector<Camera>& cameras, cons
         if (batch) render_views(renderer, cameras, path, views);
         else renderer.render(cameras[0], path, vis);
     };
-    if (a.repeat > 0) frame(); // warm-up: first launches compile
+    if (a.repeat > 0 || a.timings) { // warm-up: first launches compile
+        auto t_first = std::chrono::steady_clock::now();
+        frame(); // render() returns once the queue has finished
+        r.first_frame_ms = bench::ms_since(t_first);
+    }
     double best = 1e300;
     for (int i = 0; i < std::max(a.repeat, 1); ++i) {
         frame();
@@ -262,13 +271,14 @@ nlohmann::json stages_json(const FrameTiming& t)
 }
 
 /// The summary line of one path on standard error.
-std::string path_line(const PathResult& r, int repeat)
+std::string path_line(const PathResult& r)
 {
     std::string line = std::string("clvis: ") + to_string(r.path) + ": ";
     char buf[128];
-    if (repeat > 0)
-        std::snprintf(buf, sizeof buf, "frame %.2f ms min, %.2f ms median of %d after a warm-up",
-                      *std::min_element(r.samples.begin(), r.samples.end()), bench::median_of(r.samples), repeat);
+    if (r.first_frame_ms >= 0)
+        std::snprintf(buf, sizeof buf, "frame %.2f ms min, %.2f ms median of %zu after a warm-up",
+                      *std::min_element(r.samples.begin(), r.samples.end()), bench::median_of(r.samples),
+                      r.samples.size());
     else
         std::snprintf(buf, sizeof buf, "frame %.2f ms (first frame: includes the driver's first-launch "
                                        "compilation; --repeat N times warm frames)", r.samples[0]);
@@ -283,6 +293,38 @@ std::string path_line(const PathResult& r, int repeat)
         line += buf;
     }
     return line;
+}
+
+/// --timings: what a one-off render paid before each path's first frame was on the host.
+struct FirstFrame {
+    double device_open_ms = 0; ///< Device::open: platform, context, queue
+    double renderer_ms = 0;    ///< Renderer construction: the scene uploaded
+};
+
+std::string first_frame_line(const FirstFrame& f, const std::vector<PathResult>& results)
+{
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "clvis: first frame: device open %.1f ms, renderer (upload) %.1f ms",
+                  f.device_open_ms, f.renderer_ms);
+    std::string line = buf;
+    for (const auto& r : results) {
+        std::snprintf(buf, sizeof buf, "; %s: prepare (programs%s) %.1f ms, first frame %.1f ms, next %.2f ms",
+                      to_string(r.path), r.path == Path::Ray ? ", BVH" : "", r.prepare_ms, r.first_frame_ms,
+                      bench::median_of(r.samples));
+        line += buf;
+    }
+    return line;
+}
+
+nlohmann::json first_frame_json(const FirstFrame& f, const std::vector<PathResult>& results)
+{
+    nlohmann::json paths = nlohmann::json::array();
+    for (const auto& r : results)
+        paths.push_back({{"path", to_string(r.path)},
+                         {"prepare_ms", r.prepare_ms},
+                         {"first_frame_ms", r.first_frame_ms},
+                         {"next_frame_ms", bench::median_of(r.samples)}});
+    return {{"device_open_ms", f.device_open_ms}, {"renderer_ms", f.renderer_ms}, {"paths", paths}};
 }
 
 /// The referee's verdict on raster against ray, said on standard error and returned as JSON.
@@ -336,7 +378,7 @@ nlohmann::json render_json(const RenderArgs& a, const SceneFile& file,
     j["height"] = a.height;
     j["device"] = device.info().name;
     j["load_ms"] = load_ms;
-    j["warm_up"] = a.repeat > 0;
+    j["warm_up"] = a.repeat > 0 || a.timings;
     j["camera"] = camera.to_flags();
     if (several) {
         j["build_ms"] = results[1].build_ms;
@@ -383,7 +425,10 @@ void render_command(RenderArgs a)
     else paths = {path_from_string(a.path)};
     bool several = paths.size() > 1;
 
+    FirstFrame first;
+    auto t_open = std::chrono::steady_clock::now();
     Device device = a.device.open();
+    first.device_open_ms = bench::ms_since(t_open);
     auto say = [&](const std::string& line) {
         if (!a.quiet) std::cerr << line << "\n";
     };
@@ -391,18 +436,24 @@ void render_command(RenderArgs a)
         std::to_string(a.scene.files.size()) + " file(s) in " + std::to_string(int(load_ms + 0.5)) + " ms; device " +
         device.info().name);
     if (a.views.empty() && view.framed) say("clvis: framing camera: " + camera.to_flags());
+    auto t_renderer = std::chrono::steady_clock::now();
     Renderer renderer(device, file.scene, render_options(a));
+    first.renderer_ms = bench::ms_since(t_renderer);
 
     std::vector<PathResult> results;
     for (Path p : paths) {
         results.push_back(run_path(renderer, cameras, a, a.width, a.height, p, several, several,
                                    std::uint32_t(file.scene.triangle_count()), say));
-        say(path_line(results.back(), a.repeat));
+        say(path_line(results.back()));
     }
+    if (a.timings) say(first_frame_line(first, results));
     nlohmann::json compare_json;
     if (several) compare_json = compare_paths(file, camera, a, render_options(a), results, say);
-    if (a.json)
-        std::cout << render_json(a, file, camera, device, load_ms, results, compare_json).dump(2) << "\n";
+    if (a.json) {
+        nlohmann::json j = render_json(a, file, camera, device, load_ms, results, compare_json);
+        if (a.timings) j["first_frame"] = first_frame_json(first, results);
+        std::cout << j.dump(2) << "\n";
+    }
     if (several && (compare_json["errors"].get<std::size_t>() > 0 ||
                     compare_json["depths"]["errors"].get<std::size_t>() > 0)) {
         std::cerr << "clvis: the referee rejected ids or depths of a path (see above)\n";
@@ -444,6 +495,9 @@ void add_render_command(CLI::App& app)
         ->check(CLI::IsMember({"none", "back", "front"}));
     cmd->add_option("--leaf-size", args->leaf, "BVH: triangles per leaf at most");
     cmd->add_flag("--json", args->json, "print one JSON object with the timings on standard output");
+    cmd->add_flag("--timings", args->timings,
+                  "what a one-off render pays before its first frame: device open, renderer (upload), prepare "
+                  "(program build; BVH for ray) and the first frame against the next (with --json: first_frame)");
     cmd->add_flag("--quiet,-q", args->quiet, "say nothing on standard error");
     cmd->callback([args] { render_command(*args); });
 }
