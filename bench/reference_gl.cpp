@@ -210,18 +210,6 @@ public:
         }
     }
 
-    double frame() override
-    {
-        g.make_current();
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-        set_up_frame();
-        auto t0 = std::chrono::steady_clock::now();
-        draw();
-        double ms = ms_since(t0);
-        result_.frame_ms.push_back(ms);
-        return ms;
-    }
-
     const ReferenceResult& result() override
     {
         g.make_current();
@@ -236,8 +224,16 @@ public:
 private:
     const GlReference::Impl& g;
     Camera camera;
-    ReferenceResult result_;
     GLuint fbo = 0, colour = 0, depth = 0;
+
+    void before_frame() override
+    {
+        g.make_current();
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        set_up_frame();
+    }
+
+    void render_frame() override { draw(); }
 
     void release()
     {

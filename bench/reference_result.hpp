@@ -5,6 +5,7 @@
 
 #include "bench_stats.hpp"
 
+#include <chrono>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -29,11 +30,26 @@ struct ReferenceResult {
 class ReferenceView {
 public:
     virtual ~ReferenceView() = default;
-    /// One timed frame; returns its wall time (ms), also kept in result().frame_ms.
-    virtual double frame() = 0;
+    /// One timed frame (before_frame() untimed, then render_frame()); returns its wall time (ms),
+    /// also kept in result().frame_ms.
+    double frame()
+    {
+        before_frame();
+        auto t0 = std::chrono::steady_clock::now();
+        render_frame();
+        double ms = ms_since(t0);
+        result_.frame_ms.push_back(ms);
+        return ms;
+    }
     /// The last frame's ids and depth (read back, not timed) and every timed frame. Throws
     /// std::runtime_error on a failure of the reference.
     virtual const ReferenceResult& result() = 0;
+
+protected:
+    /// What the next frame needs that is not part of it (a context made current).
+    virtual void before_frame() {}
+    virtual void render_frame() = 0;
+    ReferenceResult result_;
 };
 
 } // namespace clvis::bench

@@ -35,6 +35,14 @@ Lane scripted_lane(const std::string& name, std::vector<double> times, std::vect
     return l;
 }
 
+StopRule frames_between(int min_frames, int max_frames)
+{
+    StopRule rule;
+    rule.min_frames = min_frames;
+    rule.max_frames = max_frames;
+    return rule;
+}
+
 } // namespace
 
 TEST_CASE("The median's interval spans min to max up to eight samples")
@@ -96,9 +104,7 @@ TEST_CASE("Interleaved lanes alternate frame by frame")
     std::vector<std::string> order;
     std::vector<Lane> lanes{scripted_lane("A", {10}, order), scripted_lane("B", {20}, order),
                             scripted_lane("C", {30}, order)};
-    StopRule rule;
-    rule.min_frames = 3;
-    int rounds = interleave(lanes, rule);
+    int rounds = interleave(lanes, frames_between(3, 30));
     CHECK(rounds == 3);
     CHECK(order == std::vector<std::string>{"A", "B", "C", "A", "B", "C", "A", "B", "C"});
     CHECK(lanes[1].ms == std::vector<double>{20, 20, 20});
@@ -109,10 +115,7 @@ TEST_CASE("A settled lane keeps alternating while another is noisy, up to the ca
     std::vector<std::string> order;
     std::vector<Lane> lanes{scripted_lane("steady", {10}, order),
                             scripted_lane("noisy", {10, 30, 10, 30, 10, 30, 10, 30, 10, 30}, order)};
-    StopRule rule;
-    rule.min_frames = 3;
-    rule.max_frames = 8;
-    CHECK(interleave(lanes, rule) == 8);
+    CHECK(interleave(lanes, frames_between(3, 8)) == 8);
     CHECK(lanes[0].ms.size() == 8);
     CHECK(lanes[1].ms.size() == 8);
     CHECK(order[6] == "steady");
@@ -125,12 +128,9 @@ TEST_CASE("A slow lane stops at its own cap while the others go on")
     std::vector<Lane> lanes{scripted_lane("fast", {1, 2, 1, 2, 1, 2, 1, 2}, order),
                             scripted_lane("brute", {500}, order)};
     lanes[1].max_frames = 2;
-    StopRule rule;
-    rule.min_frames = 3;
-    rule.max_frames = 6;
-    CHECK(interleave(lanes, rule) == 6);
-    CHECK(lanes[0].ms.size() == 6);
-    CHECK(lanes[1].ms.size() == 2);
+    CHECK(interleave(lanes, frames_between(3, 6)) == 6);
+    CHECK(order == std::vector<std::string>{"fast", "brute", "fast", "brute", "fast", "fast", "fast", "fast"});
+    CHECK(lanes[1].ms == std::vector<double>{500, 500});
 }
 
 TEST_CASE("A lane that throws leaves the rounds with its error")
