@@ -14,19 +14,13 @@ import math
 import os
 import sys
 
+from bench_json import run_of
 from plot_common import RENDERER_STYLE, plt, read_run, save
 
 # (name in bench.json, label, colour, line style): clvis solid, the references dashed or dotted.
 RENDERERS = [(name,) + RENDERER_STYLE[name] + (style,)
              for name, style in (("raster", "-"), ("ray", "-"), ("brute", "-"), ("llvmpipe", "--"),
                                  ("embree-intersect1", "--"), ("embree-intersect16", ":"))]
-
-
-def run_of(point, renderer):
-    for run in point["runs"]:
-        if run["renderer"] == renderer and "frame_ms" in run:
-            return run
-    return None
 
 
 def frame_stats(point, renderer):
