@@ -141,8 +141,8 @@ struct PathResult {
     double build_ms = 0;
     BvhStats bvh;
     HostVisibility vis;
-    double prepare_ms = 0;     ///< host wall time of prepare(): programs built, BVH built (ray)
-    double first_frame_ms = -1; ///< host wall time of the first render() (the warm-up), -1 if none
+    /// Host wall time of prepare() (programs; BVH for ray) and of the first render() (-1: none).
+    double prepare_ms = 0, first_frame_ms = -1;
 };
 
 using NameFn = std::function<std::string(const std::string&)>;
@@ -277,8 +277,7 @@ std::string path_line(const PathResult& r)
     char buf[128];
     if (r.first_frame_ms >= 0)
         std::snprintf(buf, sizeof buf, "frame %.2f ms min, %.2f ms median of %zu after a warm-up",
-                      *std::min_element(r.samples.begin(), r.samples.end()), bench::median_of(r.samples),
-                      r.samples.size());
+                      *std::min_element(r.samples.begin(), r.samples.end()), bench::median_of(r.samples), r.samples.size());
     else
         std::snprintf(buf, sizeof buf, "frame %.2f ms (first frame: includes the driver's first-launch "
                                        "compilation; --repeat N times warm frames)", r.samples[0]);
@@ -295,17 +294,13 @@ std::string path_line(const PathResult& r)
     return line;
 }
 
-/// --timings: what a one-off render paid before each path's first frame was on the host.
-struct FirstFrame {
-    double device_open_ms = 0; ///< Device::open: platform, context, queue
-    double renderer_ms = 0;    ///< Renderer construction: the scene uploaded
-};
-
-std::string first_frame_line(const FirstFrame& f, const std::vector<PathResult>& results)
+/// --timings: what a one-off render paid on the host before each path's first frame: Device::open
+/// (platform, context, queue), the Renderer (scene upload), then per path prepare and the frames.
+std::string first_frame_line(double open_ms, double renderer_ms, const std::vector<PathResult>& results)
 {
     char buf[200];
-    std::snprintf(buf, sizeof buf, "clvis: first frame: device open %.1f ms, renderer (upload) %.1f ms",
-                  f.device_open_ms, f.renderer_ms);
+    std::snprintf(buf, sizeof buf, "clvis: first frame: device open %.1f ms, renderer (upload) %.1f ms", open_ms,
+                  renderer_ms);
     std::string line = buf;
     for (const auto& r : results) {
         std::snprintf(buf, sizeof buf, "; %s: prepare (programs%s) %.1f ms, first frame %.1f ms, next %.2f ms",
@@ -316,7 +311,7 @@ std::string first_frame_line(const FirstFrame& f, const std::vector<PathResult>&
     return line;
 }
 
-nlohmann::json first_frame_json(const FirstFrame& f, const std::vector<PathResult>& results)
+nlohmann::json first_frame_json(double open_ms, double renderer_ms, const std::vector<PathResult>& results)
 {
     nlohmann::json paths = nlohmann::json::array();
     for (const auto& r : results)
@@ -324,7 +319,7 @@ nlohmann::json first_frame_json(const FirstFrame& f, const std::vector<PathResul
                          {"prepare_ms", r.prepare_ms},
                          {"first_frame_ms", r.first_frame_ms},
                          {"next_frame_ms", bench::median_of(r.samples)}});
-    return {{"device_open_ms", f.device_open_ms}, {"renderer_ms", f.renderer_ms}, {"paths", paths}};
+    return {{"device_open_ms", open_ms}, {"renderer_ms", renderer_ms}, {"paths", paths}};
 }
 
 /// The referee's verdict on raster against ray, said on standard error and returned as JSON.
@@ -425,10 +420,9 @@ void render_command(RenderArgs a)
     else paths = {path_from_string(a.path)};
     bool several = paths.size() > 1;
 
-    FirstFrame first;
     auto t_open = std::chrono::steady_clock::now();
     Device device = a.device.open();
-    first.device_open_ms = bench::ms_since(t_open);
+    const double open_ms = bench::ms_since(t_open);
     auto say = [&](const std::string& line) {
         if (!a.quiet) std::cerr << line << "\n";
     };
@@ -438,7 +432,7 @@ void render_command(RenderArgs a)
     if (a.views.empty() && view.framed) say("clvis: framing camera: " + camera.to_flags());
     auto t_renderer = std::chrono::steady_clock::now();
     Renderer renderer(device, file.scene, render_options(a));
-    first.renderer_ms = bench::ms_since(t_renderer);
+    const double renderer_ms = bench::ms_since(t_renderer);
 
     std::vector<PathResult> results;
     for (Path p : paths) {
@@ -446,12 +440,12 @@ void render_command(RenderArgs a)
                                    std::uint32_t(file.scene.triangle_count()), say));
         say(path_line(results.back()));
     }
-    if (a.timings) say(first_frame_line(first, results));
+    if (a.timings) say(first_frame_line(open_ms, renderer_ms, results));
     nlohmann::json compare_json;
     if (several) compare_json = compare_paths(file, camera, a, render_options(a), results, say);
     if (a.json) {
         nlohmann::json j = render_json(a, file, camera, device, load_ms, results, compare_json);
-        if (a.timings) j["first_frame"] = first_frame_json(first, results);
+        if (a.timings) j["first_frame"] = first_frame_json(open_ms, renderer_ms, results);
         std::cout << j.dump(2) << "\n";
     }
     if (several && (compare_json["errors"].get<std::size_t>() > 0 ||
