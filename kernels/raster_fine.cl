@@ -8,12 +8,12 @@
 
 __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const uint* entries,
                           __global const uint* offsets, int tile_log2, int tiles_x, clvis_camera_gpu cam,
-                          __global ulong* keys)
+                          __global ulong* keys, clvis_region region)
 {
     int sub = min(1 << tile_log2, CLVIS_FINE_SUB);
     int px0 = (int)get_global_id(0) * sub, py0 = (int)get_global_id(1) * sub;
-    if (px0 >= cam.width || py0 >= cam.height) return;
-    int px1 = min(px0 + sub, cam.width) - 1, py1 = min(py0 + sub, cam.height) - 1;
+    if (px0 >= region.width || py0 >= region.height) return; /* region pixels, shared/region.h */
+    int px1 = min(px0 + sub, region.width) - 1, py1 = min(py0 + sub, region.height) - 1;
     uint tile = (uint)(py0 >> tile_log2) * (uint)tiles_x + (uint)(px0 >> tile_log2);
     uint begin = offsets[tile], end = offsets[tile + 1];
 
@@ -48,7 +48,7 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
             ulong8 b = best[j - py0][s];
             if (all(b == (ulong8)(CLVIS_BACKGROUND_KEY))) continue;
             int i0 = px0 + 8 * s, count = min(8, px1 - i0 + 1);
-            __global ulong* row = keys + (size_t)j * (size_t)cam.width + (size_t)i0;
+            __global ulong* row = keys + (size_t)j * (size_t)region.width + (size_t)i0;
             if (count == 8) {
                 vstore8(min(b, vload8(0, row)), 0, row);
             } else {

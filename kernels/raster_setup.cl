@@ -24,6 +24,7 @@ typedef struct {
     __global clvis_raster_tri* tris;
     uint capacity;
     volatile __global ulong* counters;
+    clvis_region region; /* keys hold this region of the image (shared/region.h) */
 } raster_setup_out;
 
 static clvis_clip_vertex load_camera_vertex(clvis_camera_gpu cam, __global const float* positions, uint v)
@@ -39,12 +40,12 @@ static void emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_ra
                           raster_setup_out out)
 {
     clvis_raster_tri t;
-    if (!clvis_raster_setup(a, b, c, id, out.cam.width, out.cam.height, out.cull, &t)) return;
+    if (!clvis_raster_setup_region(a, b, c, id, out.region, out.cull, &t)) return;
     if ((t.x1 - t.x0 + 1) * (t.y1 - t.y0 + 1) <= CLVIS_RASTER_SCALAR) {
         for (int j = t.y0; j <= t.y1; ++j) {
             for (int i = t.x0; i <= t.x1; ++i) {
                 ulong key = clvis_raster_sample(&t, i, j, out.cam.ortho, out.cam.near_d, out.cam.far_d);
-                if (key != CLVIS_BACKGROUND_KEY) atom_min(&out.keys[(size_t)j * out.cam.width + i], key);
+                if (key != CLVIS_BACKGROUND_KEY) atom_min(&out.keys[(size_t)j * out.region.width + i], key);
             }
         }
         return;
@@ -59,7 +60,7 @@ static void emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_ra
             if (all(key == (ulong8)(CLVIS_BACKGROUND_KEY))) continue;
             ulong lane[8];
             vstore8(key, 0, lane);
-            volatile __global ulong* row = out.keys + (size_t)j * (size_t)out.cam.width + (size_t)t.x0;
+            volatile __global ulong* row = out.keys + (size_t)j * (size_t)out.region.width + (size_t)t.x0;
             for (int l = 0; l < 8; ++l)
                 if (lane[l] != CLVIS_BACKGROUND_KEY) atom_min(&row[l], lane[l]);
         }
@@ -129,7 +130,7 @@ static clvis_raster_vertex widen(clvis_raster_projected p)
 __kernel void raster_setup(clvis_camera_gpu cam, __global const float* positions, __global const uint* indices,
                            uint triangle_count, __global const clvis_raster_projected* projected, int cull,
                            volatile __global ulong* keys, __global clvis_raster_tri* tris, uint capacity,
-                           volatile __global ulong* counters)
+                           volatile __global ulong* counters, clvis_region region)
 {
     uint id = (uint)get_global_id(0);
     if (id >= triangle_count) return;
@@ -137,7 +138,7 @@ __kernel void raster_setup(clvis_camera_gpu cam, __global const float* positions
     uint a = indices[i], b = indices[i + 1], c = indices[i + 2];
     clvis_raster_projected pa = projected[a], pb = projected[b], pc = projected[c];
     if (pa.code & pb.code & pc.code & CLVIS_OUT_VIEW) return;
-    raster_setup_out out = {cam, cull, keys, tris, capacity, counters};
+    raster_setup_out out = {cam, cull, keys, tris, capacity, counters, region};
     if ((pa.code | pb.code | pc.code) & CLVIS_OUT_CLIP) {
         clip_and_emit(load_camera_vertex(cam, positions, a), load_camera_vertex(cam, positions, b),
                       load_camera_vertex(cam, positions, c), id, clvis_guard_of(cam), out);

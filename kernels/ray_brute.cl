@@ -3,6 +3,7 @@
    and the brute path of host/ray/ray_pipeline.cpp for small scenes. */
 #include "shared/camera.h"
 #include "shared/ray.h"
+#include "shared/region.h"
 #include "shared/visibility.h"
 
 static clvis_vec3 load_vertex(__global const float* positions, uint v)
@@ -12,10 +13,11 @@ static clvis_vec3 load_vertex(__global const float* positions, uint v)
 }
 
 __kernel void ray_brute(clvis_camera_gpu cam, __global const float* positions, __global const uint* indices,
-                        uint triangle_count, int cull, __global ulong* keys)
+                        uint triangle_count, int cull, __global ulong* keys, clvis_region region)
 {
-    int px = (int)get_global_id(0), py = (int)get_global_id(1);
-    if (px >= cam.width || py >= cam.height) return;
+    int lx = (int)get_global_id(0), ly = (int)get_global_id(1); /* in the region (shared/region.h) */
+    if (lx >= region.width || ly >= region.height) return;
+    int px = region.x + lx, py = region.y + ly;
     clvis_vec3 origin, dir;
     clvis_primary_ray(cam, (float)px + 0.5f, (float)py + 0.5f, &origin, &dir);
     clvis_ray_shear ray = clvis_make_shear(origin, dir);
@@ -28,5 +30,5 @@ __kernel void ray_brute(clvis_camera_gpu cam, __global const float* positions, _
         ulong key = clvis_make_key(t, id);
         best = hit && key < best ? key : best;
     }
-    keys[(size_t)py * (size_t)cam.width + (size_t)px] = best;
+    keys[(size_t)ly * (size_t)region.width + (size_t)lx] = best;
 }

@@ -9,6 +9,7 @@
 #include "shared/bvh.h"
 #include "shared/camera.h"
 #include "shared/ray.h"
+#include "shared/region.h"
 #include "shared/visibility.h"
 
 #define CLVIS_RAY_NONE 0xFFFFFFFFu
@@ -307,12 +308,14 @@ static void packet_test_leaf(const packet* p, __global const clvis_bvh_tri* tris
     *cull = fmin((lanes_f)(cam.far_d), as_float16(*best_t)) * CLVIS_IZE_SCALE;
 }
 
-/* Traces the packet of pixels from (x0, y0) and writes their keys; `faces` is the cull mode
-   (CLVIS_CULL_*). Stack entries name a child slot, (4-wide node << 2) | slot, so that a popped
-   child is tested again against the hits found since it was pushed. */
-static void trace_packet(clvis_camera_gpu cam, int x0, int y0, __global const clvis_bvh4_node* nodes, uint node_count,
-                         __global const clvis_bvh_tri* tris, int faces, __global ulong* keys)
+/* Traces the packet of pixels from (x0, y0) (in the image) and writes the keys of those inside
+   `region` into its buffer (shared/region.h); `faces` is the cull mode (CLVIS_CULL_*). Stack
+   entries name a child slot, (4-wide node << 2) | slot, so that a popped child is tested again
+   against the hits found since it was pushed. */
+static void trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int y0, __global const clvis_bvh4_node* nodes,
+                         uint node_count, __global const clvis_bvh_tri* tris, int faces, __global ulong* keys)
 {
+    int x_end = region.x + region.width, y_end = region.y + region.height;
     packet p;
     make_packet(cam, x0, y0, &p);
     lanes_u best_t = (lanes_u)(clvis_float_bits(CLVIS_INFINITY)), best_id = (lanes_u)(CLVIS_BACKGROUND_ID);
@@ -371,17 +374,18 @@ static void trace_packet(clvis_camera_gpu cam, int x0, int y0, __global const cl
     vstore16(best_id, 0, ids);
     for (int l = 0; l < CLVIS_PACKET; ++l) {
         int x = x0 + l % CLVIS_PACKET_W, y = y0 + l / CLVIS_PACKET_W;
-        if (x < cam.width && y < cam.height)
-            keys[(size_t)y * (size_t)cam.width + (size_t)x] = ((ulong)t_bits[l] << 32) | ids[l];
+        if (x < x_end && y < y_end)
+            keys[(size_t)(y - region.y) * (size_t)region.width + (size_t)(x - region.x)] = ((ulong)t_bits[l] << 32) | ids[l];
     }
 }
 
 __kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh4_node* nodes, uint node_count,
-                        __global const clvis_bvh_tri* tris, int faces, __global ulong* keys)
+                        __global const clvis_bvh_tri* tris, int faces, __global ulong* keys, clvis_region region)
 {
-    int x0 = (int)get_global_id(0) * CLVIS_PACKET_W, y0 = (int)get_global_id(1) * CLVIS_PACKET_H;
-    if (x0 >= cam.width || y0 >= cam.height) return; /* the launch is rounded up to whole tiles */
-    trace_packet(cam, x0, y0, nodes, node_count, tris, faces, keys);
+    /* Packets start at the region's corner; each lane's ray is its own pixel's. */
+    int x0 = region.x + (int)get_global_id(0) * CLVIS_PACKET_W, y0 = region.y + (int)get_global_id(1) * CLVIS_PACKET_H;
+    if (x0 >= region.x + region.width || y0 >= region.y + region.height) return; /* the launch is rounded up */
+    trace_packet(cam, region, x0, y0, nodes, node_count, tris, faces, keys);
 }
 
 /* Many views in one launch: the third dimension is the view, whose keys start `stride` keys after
@@ -394,5 +398,6 @@ __kernel void ray_trace_views(__global const clvis_camera_gpu* cams, __global co
     clvis_camera_gpu cam = cams[view];
     int x0 = (int)get_global_id(0) * CLVIS_PACKET_W, y0 = (int)get_global_id(1) * CLVIS_PACKET_H;
     if (x0 >= cam.width || y0 >= cam.height) return;
-    trace_packet(cam, x0, y0, nodes, node_count, tris, faces, keys + view * stride);
+    clvis_region whole = {0, 0, cam.width, cam.height};
+    trace_packet(cam, whole, x0, y0, nodes, node_count, tris, faces, keys + view * stride);
 }

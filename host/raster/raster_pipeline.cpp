@@ -158,6 +158,7 @@ struct RasterPipeline::Impl {
             setup.setArg(7, tris);
             setup.setArg(8, cl_uint(std::min<std::size_t>(tri_capacity, 0xFFFFFFFFu)));
             setup.setArg(9, counters);
+            setup.setArg(10, sizeof frame.region, &frame.region);
             frame.queue.enqueueNDRangeKernel(setup, cl::NullRange,
                                              cl::NDRange(round_up(scene.triangle_count, setup_group)),
                                              cl::NDRange(setup_group), nullptr, &done);
@@ -172,10 +173,11 @@ struct RasterPipeline::Impl {
 
     void render(const DeviceScene& scene, Frame& frame)
     {
-        if (frame.width > CLVIS_MAX_IMAGE_SIZE || frame.height > CLVIS_MAX_IMAGE_SIZE)
+        int image_w = frame.gpu_camera.width, image_h = frame.gpu_camera.height; // the region's image
+        if (image_w > CLVIS_MAX_IMAGE_SIZE || image_h > CLVIS_MAX_IMAGE_SIZE)
             throw Error(Error::Kind::Limit, "the raster path draws images of at most " +
                                                 std::to_string(CLVIS_MAX_IMAGE_SIZE) + " pixels a side (" +
-                                                std::to_string(frame.width) + "x" + std::to_string(frame.height) +
+                                                std::to_string(image_w) + "x" + std::to_string(image_h) +
                                                 " asked): its fixed-point edge functions hold no more");
         if (scene.triangle_count == 0) {
             clear_keys(clear, frame);
@@ -241,6 +243,7 @@ struct RasterPipeline::Impl {
         fine.setArg(4, cl_int(tiles_x));
         fine.setArg(5, sizeof frame.gpu_camera, &frame.gpu_camera);
         fine.setArg(6, frame.keys);
+        fine.setArg(7, sizeof frame.region, &frame.region);
         std::size_t squares_x = (std::size_t(frame.width) + fine_square() - 1) / fine_square();
         std::size_t squares_y = (std::size_t(frame.height) + fine_square() - 1) / fine_square();
         cl::NDRange fine_global(round_up(squares_x, fine_group[0]), round_up(squares_y, fine_group[1]));

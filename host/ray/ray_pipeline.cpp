@@ -173,6 +173,7 @@ void RayPipeline::render(const DeviceScene& scene, Frame& frame, bool brute)
         k.setArg(3, cl_uint(scene.triangle_count));
         k.setArg(4, cl_int(cull_mode(m.options.cull)));
         k.setArg(5, frame.keys);
+        k.setArg(6, sizeof frame.region, &frame.region);
         cl::NDRange global(round_up(std::size_t(frame.width), g[0]), round_up(std::size_t(frame.height), g[1]));
         frame.queue.enqueueNDRangeKernel(k, cl::NullRange, global, g, nullptr, &done);
     } else {
@@ -185,6 +186,7 @@ void RayPipeline::render(const DeviceScene& scene, Frame& frame, bool brute)
         k.setArg(3, m.tris);
         k.setArg(4, cl_int(cull_mode(m.options.cull)));
         k.setArg(5, frame.keys);
+        k.setArg(6, sizeof frame.region, &frame.region);
         std::size_t packets_x = (std::size_t(frame.width) + packet_w - 1) / packet_w;
         std::size_t packets_y = (std::size_t(frame.height) + packet_h - 1) / packet_h;
         cl::NDRange global(round_up(packets_x, g[0]), round_up(packets_y, g[1]));

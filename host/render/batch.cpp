@@ -86,6 +86,7 @@ void render_views(Renderer& renderer, const std::vector<Camera>& cameras, Path p
                 frame.queue = m.queue;
                 frame.width = target.width();
                 frame.height = target.height();
+                frame.region = clvis_region{0, 0, target.width(), target.height()};
                 frame.gpu_camera = gpu[std::size_t(v)];
                 frame.keys = cl::Buffer(target.view(v).keys(), true);
                 frame.stages = &m.stages;

@@ -6,6 +6,7 @@
 #include "runtime/cl.hpp"
 
 #include "shared/camera.h"
+#include "shared/region.h"
 #include "shared/visibility.h"
 
 #include <clvis/camera.hpp>
@@ -55,7 +56,8 @@ struct Frame {
     cl::CommandQueue queue;
     clvis_camera_gpu gpu_camera{};   ///< the same in float32 for the kernels
     cl::Buffer keys;                 ///< width * height keys, row 0 on top
-    int width = 0, height = 0;
+    int width = 0, height = 0;       ///< of the region drawn (keys' size); gpu_camera has the image's
+    clvis_region region{};           ///< the pixels drawn, in the image (shared/region.h)
     StageRecorder* stages = nullptr;
 };
 

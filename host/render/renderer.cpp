@@ -28,6 +28,19 @@ void check_options(const RenderOptions& o)
                     "BVH SAH bins must lie in [2, 256], got " + std::to_string(o.bvh.sah_bins));
 }
 
+/// A region of at least one pixel inside the width x height image.
+void check_region(const Region& r, int width, int height)
+{
+    if (width <= 0 || height <= 0)
+        throw Error(Error::Kind::InvalidArgument, "image size must be positive, got " + std::to_string(width) + "x" +
+                                                      std::to_string(height));
+    if (r.width <= 0 || r.height <= 0 || r.x < 0 || r.y < 0 || r.x > width - r.width || r.y > height - r.height)
+        throw Error(Error::Kind::InvalidArgument,
+                    "region " + std::to_string(r.width) + "x" + std::to_string(r.height) + " at (" +
+                        std::to_string(r.x) + ", " + std::to_string(r.y) + ") does not lie inside the " +
+                        std::to_string(width) + "x" + std::to_string(height) + " image");
+}
+
 /// World-space vertex normals (inverse transpose of each mesh's linear part), zero where a mesh
 /// has none: shading then falls back to the triangle's flat normal.
 std::vector<float> world_normals(const Scene& scene)
@@ -155,9 +168,12 @@ VisibilityBuffer Renderer::render(const Camera& camera, int width, int height, P
 {
     Impl& m = checked("Renderer::render");
     camera.validate();
+    Region region = m.options.region;
+    if (region.whole()) region = Region{0, 0, width, height};
+    check_region(region, width, height);
     return error_boundary(std::string("rendering with the ") + to_string(path) + " path", [&] {
-        VisibilityBuffer target(m.device, width, height);
-        m.render(camera, path, target);
+        VisibilityBuffer target(m.device, region.width, region.height);
+        m.render(camera, width, height, region, path, target);
         return target;
     });
 }
@@ -166,20 +182,42 @@ void Renderer::render(const Camera& camera, Path path, VisibilityBuffer& target)
 {
     Impl& m = checked("Renderer::render");
     camera.validate();
-    error_boundary(std::string("rendering with the ") + to_string(path) + " path",
-                   [&] { m.render(camera, path, target); });
+    if (!m.options.region.whole())
+        throw Error(Error::Kind::InvalidArgument,
+                    "Renderer::render: options().region needs the image's size; pass it with the region");
+    error_boundary(std::string("rendering with the ") + to_string(path) + " path", [&] {
+        Region whole{0, 0, target.width(), target.height()};
+        m.render(camera, target.width(), target.height(), whole, path, target);
+    });
 }
 
-void Renderer::Impl::render(const Camera& camera, Path path, VisibilityBuffer& target)
+void Renderer::render(const Camera& camera, int width, int height, const Region& region, Path path,
+                      VisibilityBuffer& target)
+{
+    Impl& m = checked("Renderer::render");
+    camera.validate();
+    check_region(region, width, height);
+    error_boundary(std::string("rendering with the ") + to_string(path) + " path",
+                   [&] { m.render(camera, width, height, region, path, target); });
+}
+
+void Renderer::Impl::render(const Camera& camera, int width, int height, const Region& region, Path path,
+                            VisibilityBuffer& target)
 {
     if (target.empty()) throw Error(Error::Kind::InvalidArgument, "Renderer::render: empty target buffer");
     if (target.device().context() != device.context())
         throw Error(Error::Kind::InvalidArgument, "Renderer::render: the target belongs to another OpenCL context");
+    if (target.width() != region.width || target.height() != region.height)
+        throw Error(Error::Kind::InvalidArgument, "Renderer::render: the target is " + std::to_string(target.width()) +
+                                                      "x" + std::to_string(target.height()) + ", the region " +
+                                                      std::to_string(region.width) + "x" +
+                                                      std::to_string(region.height));
     Frame frame;
     frame.queue = queue;
-    frame.width = target.width();
-    frame.height = target.height();
-    frame.gpu_camera = make_gpu_camera(camera, frame.width, frame.height);
+    frame.width = region.width;
+    frame.height = region.height;
+    frame.region = clvis_region{region.x, region.y, region.width, region.height};
+    frame.gpu_camera = make_gpu_camera(camera, width, height);
     frame.keys = cl::Buffer(target.keys(), true);
     frame.stages = &stages;
     // Build what the path needs before the clock starts: the frame is only its kernels.

@@ -28,8 +28,10 @@ struct Renderer::Impl {
     void upload_positions(std::size_t first_vertex, std::size_t count);
     detail::RayPipeline& ray_pipeline(bool need_bvh);
     detail::RasterPipeline& raster_pipeline();
-    /// One frame of `path` into `target`, for a camera already validated.
-    void render(const Camera& camera, Path path, VisibilityBuffer& target);
+    /// One frame of `path`: `region` of a width x height image into `target` (the region's
+    /// size), for a camera already validated.
+    void render(const Camera& camera, int width, int height, const Region& region, Path path,
+                VisibilityBuffer& target);
     /// Renderer::update inside its error boundary.
     void update(const Scene& scene);
 };

@@ -43,8 +43,20 @@ struct BvhOptions {
     BvhUpdate update = BvhUpdate::Refit;
 };
 
+/// A rectangle of a full image's pixels. A render of a region fills a buffer of the region's size
+/// with the bits the full render has at those pixels (both paths still compute in the full
+/// image's raster space). Several devices and MPI ranks split images into regions.
+struct Region {
+    int x = 0, y = 0;          ///< the top-left pixel in the full image
+    int width = 0, height = 0; ///< pixels; 0 x 0 means the whole image
+    bool whole() const { return width == 0 && height == 0; }
+};
+
 struct RenderOptions {
     int tile_size = 0;      ///< raster tile edge in pixels (a power of two); 0 picks the default
+    /// Renderer::render(camera, width, height, path) renders only this part of the image, into a
+    /// buffer of the region's size; the default is the whole image.
+    Region region;
     Cull cull = Cull::None; ///< face culling, on every path (see Cull)
     BvhOptions bvh;         ///< the ray path's tree (Path::Ray; the brute path has none)
 };

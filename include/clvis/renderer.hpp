@@ -33,6 +33,11 @@ public:
     VisibilityBuffer render(const Camera& camera, int width, int height, Path path);
     /// Renders into `target` (its size), e.g. a buffer wrapped from the caller's cl_mem.
     void render(const Camera& camera, Path path, VisibilityBuffer& target);
+    /// Renders `region` of a width x height image into `target`, which has the region's size:
+    /// bit-identical to those pixels of the whole image's render. Throws Error(InvalidArgument)
+    /// when the region is empty or leaves the image, or the target's size differs from it.
+    void render(const Camera& camera, int width, int height, const Region& region, Path path,
+                VisibilityBuffer& target);
 
     /// Re-uploads the meshes of `scene` (the one given at construction, changed since) whose
     /// positions or transform differ from the renderer's copy (compared by value), and refits or

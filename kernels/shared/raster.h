@@ -5,6 +5,7 @@
 #define CLVIS_SHARED_RASTER_H
 
 #include "shared/camera.h"
+#include "shared/region.h"
 #include "shared/types.h"
 #include "shared/visibility.h"
 
@@ -397,6 +398,24 @@ static inline int clvis_raster_overlaps(const clvis_raster_tri* t, int i0, int j
         clvis_i64 j = t->ey[k] > 0 ? j1 : j0;
         if (t->e0[k] + i * t->ex[k] + j * t->ey[k] < 0) return 0;
     }
+    return 1;
+}
+
+/* clvis_raster_setup for the pixels of `r` only, with t's box and edge values moved to the region's
+   own coordinates (pixel (r.x, r.y) of the image is the region's (0, 0)): the edge values are the
+   same integers at the same pixels, so every sample gives the bits of the full image's render. */
+static inline int clvis_raster_setup_region(clvis_raster_vertex v0, clvis_raster_vertex v1, clvis_raster_vertex v2,
+                                            clvis_u32 id, clvis_region r, int cull, clvis_raster_tri* t)
+{
+    if (!clvis_raster_setup(v0, v1, v2, id, r.x + r.width, r.y + r.height, cull, t)) return 0;
+    if (t->x0 < r.x) t->x0 = r.x;
+    if (t->y0 < r.y) t->y0 = r.y;
+    if (t->x0 > t->x1 || t->y0 > t->y1) return 0;
+    for (int k = 0; k < 3; ++k) t->e0[k] += (clvis_i64)r.x * t->ex[k] + (clvis_i64)r.y * t->ey[k];
+    t->x0 -= r.x;
+    t->x1 -= r.x;
+    t->y0 -= r.y;
+    t->y1 -= r.y;
     return 1;
 }
 
