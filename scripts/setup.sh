@@ -12,6 +12,8 @@ packages=(
   libopenimageio-dev openimageio-tools catch2 libcli11-dev nlohmann-json3-dev
   # glTF 2.0 files
   libtinygltf-dev
+  # MPI (optional at build time: clvis::dist, clvis render --distribute)
+  libopenmpi-dev openmpi-bin
   # reference renderers for the benchmark: Embree and Mesa's llvmpipe through EGL
   libembree-dev libegl-dev libopengl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
   # plots; the Python package's virtual environment (scripts/python_env.sh)

@@ -2,6 +2,9 @@
 // of CONVENTIONS.md's --json. With --path all both paths run and the referee compares them.
 #include "commands.hpp"
 #include "options.hpp"
+#if CLVIS_WITH_MPI
+#include "render_dist.hpp"
+#endif
 
 #include "bench_stats.hpp"
 
@@ -38,6 +41,7 @@ struct RenderArgs {
     bool quiet = false;
     bool timings = false; ///< --timings: what the first frame costs, phase by phase
     int width = 0, height = 0; ///< the image size, once resolved
+    std::string distribute; ///< --distribute screen|scene (under mpirun)
 };
 
 /// "out.png" -> "out-ray.png" when several paths write files.
@@ -413,6 +417,17 @@ void render_command(RenderArgs a)
     if (file.scene.empty()) throw Error(Error::Kind::InvalidArgument, "the scene holds no triangles");
     if (a.ao > 0 && a.image.empty()) throw Error(Error::Kind::InvalidArgument, "--ao: needs --image FILE to write");
 
+#if CLVIS_WITH_MPI
+    if (!a.distribute.empty()) {
+        if (a.path == "all" || !a.image.empty())
+            throw Error(Error::Kind::InvalidArgument, "--distribute renders one path (raster, ray or brute) into "
+                                                      "--ids/--depth; --path all and --image are for one process");
+        render_distributed({a.distribute, std::move(file), load_ms, camera, cam_opts.width, cam_opts.height,
+                            path_from_string(a.path), render_options(a), a.device.spec, a.ids, a.depth, a.repeat,
+                            a.json, a.quiet});
+        return;
+    }
+#endif
     std::vector<Path> paths;
     if (a.path == "all" && !a.views.empty())
         throw Error(Error::Kind::InvalidArgument, "--views: renders one path (--path raster, ray or brute), not all");
@@ -488,6 +503,11 @@ void add_render_command(CLI::App& app)
     cmd->add_option("--cull", args->cull, "face culling: none, back or front")
         ->check(CLI::IsMember({"none", "back", "front"}));
     cmd->add_option("--leaf-size", args->leaf, "BVH: triangles per leaf at most");
+#if CLVIS_WITH_MPI
+    cmd->add_option("--distribute", args->distribute,
+                    "under mpirun: screen (rows per rank, gathered) or scene (triangles per rank, keys reduced by min)")
+        ->check(CLI::IsMember({"screen", "scene"}));
+#endif
     cmd->add_flag("--json", args->json, "print one JSON object with the timings on standard output");
     cmd->add_flag("--timings", args->timings,
                   "what a one-off render pays before its first frame: device open, renderer (upload), prepare "

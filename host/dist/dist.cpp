@@ -1,0 +1,189 @@
+// The MPI modes of include/clvis/dist.hpp: splitting rows and triangles between ranks, and
+// compositing their keys on rank 0 (MPI_Gatherv of row bands; MPI_Reduce with MPI_MIN on
+// MPI_UINT64_T of whole images). Only the public C++ API and MPI's C API below.
+#include <clvis/dist.hpp>
+
+#include <clvis/error.hpp>
+#include <clvis/host_visibility.hpp>
+
+#include <chrono>
+#include <unordered_map>
+
+namespace clvis::dist {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+void check_mpi(int code, const char* call)
+{
+    if (code == MPI_SUCCESS) return;
+    char text[MPI_MAX_ERROR_STRING];
+    int length = 0;
+    MPI_Error_string(code, text, &length);
+    throw Error(Error::Kind::Device, std::string(call) + " failed: " + std::string(text, std::size_t(length)));
+}
+
+int rank_in(MPI_Comm comm)
+{
+    int rank = 0;
+    check_mpi(MPI_Comm_rank(comm, &rank), "MPI_Comm_rank");
+    return rank;
+}
+
+int size_of(MPI_Comm comm)
+{
+    int size = 0;
+    check_mpi(MPI_Comm_size(comm, &size), "MPI_Comm_size");
+    return size;
+}
+
+/// Every rank's `ms` on rank 0, in rank order.
+std::vector<double> gather_times(MPI_Comm comm, double ms)
+{
+    std::vector<double> all(std::size_t(size_of(comm)));
+    check_mpi(MPI_Gather(&ms, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, 0, comm), "MPI_Gather of times");
+    return rank_in(comm) == 0 ? all : std::vector<double>{};
+}
+
+void check_size(int width, int height)
+{
+    if (width <= 0 || height <= 0)
+        throw Error(Error::Kind::InvalidArgument, "image size must be positive, got " + std::to_string(width) + "x" +
+                                                      std::to_string(height));
+}
+
+} // namespace
+
+const char* to_string(Mode mode) noexcept
+{
+    switch (mode) {
+    case Mode::Frames: return "frames";
+    case Mode::Screen: return "screen";
+    case Mode::Scene: return "scene";
+    }
+    return "?";
+}
+
+Mode mode_from_string(const std::string& name)
+{
+    if (name == "frames") return Mode::Frames;
+    if (name == "screen") return Mode::Screen;
+    if (name == "scene") return Mode::Scene;
+    throw Error(Error::Kind::InvalidArgument, "distribution mode must be frames, screen or scene, got '" + name + "'");
+}
+
+Share share_of(std::size_t count, int rank, int ranks)
+{
+    if (ranks <= 0 || rank < 0 || rank >= ranks)
+        throw Error(Error::Kind::InvalidArgument,
+                    "rank " + std::to_string(rank) + " of " + std::to_string(ranks) + " does not exist");
+    return {count * std::size_t(rank) / std::size_t(ranks), count * std::size_t(rank + 1) / std::size_t(ranks)};
+}
+
+Region rows_of(int width, int height, int rank, int ranks)
+{
+    Share rows = share_of(std::size_t(height), rank, ranks);
+    return Region{0, int(rows.first), width, int(rows.size())};
+}
+
+Scene scene_part(const Scene& scene, Share share)
+{
+    if (share.first > share.last || share.last > scene.triangle_count())
+        throw Error(Error::Kind::InvalidArgument, "triangles [" + std::to_string(share.first) + ", " +
+                                                      std::to_string(share.last) + ") are not in a scene of " +
+                                                      std::to_string(scene.triangle_count()));
+    Scene part;
+    std::size_t first_id = 0;
+    for (const auto& mesh : scene.meshes()) {
+        std::size_t count = mesh.data.triangle_count();
+        std::size_t a = std::max(share.first, first_id), b = std::min(share.last, first_id + count);
+        if (a < b) {
+            MeshData cut;
+            cut.name = mesh.data.name;
+            std::unordered_map<std::uint32_t, std::uint32_t> kept; // old vertex -> new
+            for (std::size_t i = 3 * (a - first_id); i < 3 * (b - first_id); ++i) {
+                std::uint32_t v = mesh.data.indices[i];
+                auto [it, fresh] = kept.emplace(v, std::uint32_t(kept.size()));
+                if (fresh) {
+                    for (int k = 0; k < 3; ++k) cut.positions.push_back(mesh.data.positions[3 * std::size_t(v) + k]);
+                    if (!mesh.data.normals.empty())
+                        for (int k = 0; k < 3; ++k) cut.normals.push_back(mesh.data.normals[3 * std::size_t(v) + k]);
+                }
+                cut.indices.push_back(it->second);
+            }
+            part.add_mesh(std::move(cut), mesh.transform);
+        }
+        first_id += count;
+    }
+    return part;
+}
+
+std::vector<std::uint64_t> render_screen(MPI_Comm comm, Renderer& renderer, const Camera& camera, int width,
+                                         int height, Path path, Timing* timing)
+{
+    check_size(width, height);
+    int rank = rank_in(comm), ranks = size_of(comm);
+    Region band = rows_of(width, height, rank, ranks);
+    auto t0 = Clock::now();
+    std::vector<std::uint64_t> mine;
+    if (band.height > 0) {
+        VisibilityBuffer target(renderer.device(), band.width, band.height);
+        renderer.render(camera, width, height, band, path, target);
+        mine = target.read_keys();
+    }
+    double work_ms = ms_since(t0);
+    std::vector<int> counts(static_cast<std::size_t>(ranks)), offsets(static_cast<std::size_t>(ranks));
+    for (int r = 0; r < ranks; ++r) {
+        Region b = rows_of(width, height, r, ranks);
+        counts[std::size_t(r)] = b.width * b.height;
+        offsets[std::size_t(r)] = b.y * width;
+    }
+    std::vector<std::uint64_t> whole(rank == 0 ? std::size_t(width) * std::size_t(height) : 0);
+    check_mpi(MPI_Barrier(comm), "MPI_Barrier");
+    auto t1 = Clock::now();
+    check_mpi(MPI_Gatherv(mine.data(), int(mine.size()), MPI_UINT64_T, whole.data(), counts.data(), offsets.data(),
+                          MPI_UINT64_T, 0, comm),
+              "MPI_Gatherv of row bands");
+    double composite_ms = ms_since(t1);
+    std::vector<double> times = gather_times(comm, work_ms);
+    if (timing && rank == 0) {
+        timing->rank_ms = times;
+        timing->composite_ms = composite_ms;
+        timing->composite_bytes = std::size_t(width) * std::size_t(height) * 8;
+    }
+    return whole;
+}
+
+std::vector<std::uint64_t> render_scene(MPI_Comm comm, Renderer* renderer, std::uint32_t id_base,
+                                        const Camera& camera, int width, int height, Path path, Timing* timing)
+{
+    check_size(width, height);
+    int rank = rank_in(comm), ranks = size_of(comm);
+    auto t0 = Clock::now();
+    std::vector<std::uint64_t> mine(std::size_t(width) * std::size_t(height), background_key);
+    if (renderer) {
+        mine = renderer->render(camera, width, height, path).read_keys();
+        // Local ids to the whole scene's: the same shift for every triangle keeps their order.
+        for (auto& key : mine)
+            if (key != background_key) key += id_base;
+    }
+    double work_ms = ms_since(t0);
+    std::vector<std::uint64_t> whole(rank == 0 ? mine.size() : 0);
+    check_mpi(MPI_Barrier(comm), "MPI_Barrier");
+    auto t1 = Clock::now();
+    check_mpi(MPI_Reduce(mine.data(), whole.data(), int(mine.size()), MPI_UINT64_T, MPI_MIN, 0, comm),
+              "MPI_Reduce (MPI_MIN) of keys");
+    double composite_ms = ms_since(t1);
+    std::vector<double> times = gather_times(comm, work_ms);
+    if (timing && rank == 0) {
+        timing->rank_ms = times;
+        timing->composite_ms = composite_ms;
+        timing->composite_bytes = mine.size() * 8 * std::size_t(ranks);
+    }
+    return whole;
+}
+
+} // namespace clvis::dist
