@@ -422,7 +422,7 @@ void render_command(RenderArgs a)
         if (a.path == "all" || !a.image.empty())
             throw Error(Error::Kind::InvalidArgument, "--distribute renders one path (raster, ray or brute) into "
                                                       "--ids/--depth; --path all and --image are for one process");
-        render_distributed({a.distribute, std::move(file), load_ms, camera, cam_opts.width, cam_opts.height,
+        render_distributed({a.distribute, std::move(file), load_ms, camera, view.width, view.height,
                             path_from_string(a.path), render_options(a), a.device.spec, a.ids, a.depth, a.repeat,
                             a.json, a.quiet});
         return;
