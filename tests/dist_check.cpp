@@ -1,11 +1,13 @@
 // Run under mpirun (tests/CMakeLists.txt: 2 and 3 ranks): every distribution mode, on the bundled
-// meshes and a procedural scene, by both paths, must give rank 0 the keys of one process rendering
-// everything, bit for bit. Exits non-zero naming the first case that differs.
+// meshes and a procedural scene, by both paths, must give the keys of one process rendering
+// everything, bit for bit: screen and scene on rank 0; frames on the rank of each view, every view
+// rendered by exactly one rank. Exits non-zero naming the first case that differs.
 #include <clvis/clvis.hpp>
 #include <clvis/dist.hpp>
 #include <clvis/procedural.hpp>
 #include <clvis/scene_io.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -48,6 +50,48 @@ std::size_t differing(const std::vector<std::uint64_t>& got, const std::vector<s
     return n;
 }
 
+/// Views around the case's camera: its own, orbits of its eye about the target, and one from above.
+std::vector<Camera> views_of(const Camera& c, int count)
+{
+    std::vector<Camera> out;
+    Vec3 d = c.eye - c.target;
+    for (int k = 0; k < count; ++k) {
+        double a = 2.399963 * k; // the golden angle: no two views alike
+        Camera v = c;
+        v.eye = c.target + Vec3{d.x * std::cos(a) + d.z * std::sin(a), d.y + 0.1 * k, d.z * std::cos(a) - d.x * std::sin(a)};
+        out.push_back(v);
+    }
+    return out;
+}
+
+/// Frames on `ranks` ranks: each view on its rank against this process rendering it alone, and
+/// every view rendered by exactly one rank. Returns the number of failures (on every rank).
+int check_frames(MPI_Comm comm, Renderer& whole, const Case& c, Path path)
+{
+    std::vector<Camera> views = views_of(c.camera, 7);
+    std::vector<int> seen(views.size(), 0), seen_all(views.size(), 0);
+    std::vector<std::uint64_t> got;
+    int failures = 0;
+    dist::render_frames(comm, whole, views, c.width, c.height, path, [&](int v, const VisibilityBuffer& vis) {
+        ++seen[std::size_t(v)];
+        vis.read_keys(got);
+        std::size_t bad = differing(got, whole.render(views[std::size_t(v)], c.width, c.height, path).read_keys());
+        if (bad) {
+            ++failures;
+            std::fprintf(stderr, "dist_check: %s, %s path, frames mode, view %d: %zu keys differ\n", c.name.c_str(),
+                         to_string(path), v, bad);
+        }
+    });
+    MPI_Allreduce(seen.data(), seen_all.data(), int(seen.size()), MPI_INT, MPI_SUM, comm);
+    for (std::size_t v = 0; v < views.size(); ++v)
+        if (seen_all[v] != 1) {
+            ++failures;
+            std::fprintf(stderr, "dist_check: %s, frames mode: view %zu rendered by %d ranks\n", c.name.c_str(), v,
+                         seen_all[v]);
+        }
+    return failures;
+}
+
 int run(MPI_Comm comm)
 {
     int rank = 0, ranks = 1;
@@ -66,6 +110,8 @@ int run(MPI_Comm comm)
             auto screen = dist::render_screen(comm, whole, c.camera, c.width, c.height, path);
             auto scene = dist::render_scene(comm, part.get(), std::uint32_t(share.first), c.camera, c.width, c.height,
                                             path);
+            failures += check_frames(comm, whole, c, path);
+            ++checked;
             if (rank != 0) continue;
             for (auto [mode, got] : {std::pair{"screen", &screen}, std::pair{"scene", &scene}}) {
                 std::size_t bad = differing(*got, want);

@@ -41,7 +41,7 @@ struct RenderArgs {
     bool quiet = false;
     bool timings = false; ///< --timings: what the first frame costs, phase by phase
     int width = 0, height = 0; ///< the image size, once resolved
-    std::string distribute; ///< --distribute screen|scene (under mpirun)
+    std::string distribute; ///< --distribute frames|screen|scene (under mpirun)
 };
 
 /// "out.png" -> "out-ray.png" when several paths write files.
@@ -422,7 +422,10 @@ void render_command(RenderArgs a)
         if (a.path == "all" || !a.image.empty())
             throw Error(Error::Kind::InvalidArgument, "--distribute renders one path (raster, ray or brute) into "
                                                       "--ids/--depth; --path all and --image are for one process");
-        render_distributed({a.distribute, std::move(file), load_ms, camera, view.width, view.height,
+        if ((a.distribute == "frames") != !a.views.empty())
+            throw Error(Error::Kind::InvalidArgument, "--distribute frames splits the views of --views FILE; screen "
+                                                      "and scene share one camera's frame");
+        render_distributed({a.distribute, std::move(file), load_ms, cameras, view.width, view.height,
                             path_from_string(a.path), render_options(a), a.device.spec, a.ids, a.depth, a.repeat,
                             a.json, a.quiet});
         return;
@@ -505,8 +508,9 @@ void add_render_command(CLI::App& app)
     cmd->add_option("--leaf-size", args->leaf, "BVH: triangles per leaf at most");
 #if CLVIS_WITH_MPI
     cmd->add_option("--distribute", args->distribute,
-                    "under mpirun: screen (rows per rank, gathered) or scene (triangles per rank, keys reduced by min)")
-        ->check(CLI::IsMember({"screen", "scene"}));
+                    "under mpirun: frames (--views split by rank), screen (rows per rank, gathered) or scene "
+                    "(triangles per rank, keys reduced by min)")
+        ->check(CLI::IsMember({"frames", "screen", "scene"}));
 #endif
     cmd->add_flag("--json", args->json, "print one JSON object with the timings on standard output");
     cmd->add_flag("--timings", args->timings,

@@ -1,12 +1,14 @@
-// clvis render --distribute screen|scene under mpirun: every rank opens its device and renders its
-// part through clvis::dist; rank 0 writes --ids/--depth and says (or prints as --json) the frame,
-// each rank's time and the composite's.
+// clvis render --distribute frames|screen|scene under mpirun: every rank opens its device and
+// renders its part through clvis::dist; each rank writes its own views' --ids/--depth (frames) or
+// rank 0 writes the frame's, and rank 0 says (or prints as --json) the frame, each rank's time
+// and the composite's.
 #include "render_dist.hpp"
 #include "options.hpp"
 
 #include "bench_stats.hpp"
 
 #include <clvis/dist.hpp>
+#include <clvis/views_file.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -21,7 +23,7 @@ namespace clvis::cli {
 namespace {
 
 struct DistFrame {
-    std::vector<std::uint64_t> keys; ///< on rank 0
+    std::vector<std::uint64_t> keys; ///< on rank 0 (screen, scene)
     dist::Timing timing;
     double frame_ms = 0;             ///< rank 0's wall time of the whole distributed frame
 };
@@ -51,31 +53,44 @@ RankWork prepare(DistRequest& r, const Device& device, int rank, int ranks)
     return w;
 }
 
-DistFrame one_frame(const DistRequest& r, RankWork& w)
-{
-    DistFrame f;
-    MPI_Barrier(MPI_COMM_WORLD);
-    auto t0 = std::chrono::steady_clock::now();
-    if (r.mode == "scene")
-        f.keys = dist::render_scene(MPI_COMM_WORLD, w.renderer.get(), w.id_base, r.camera, r.width, r.height, r.path,
-                                    &f.timing);
-    else
-        f.keys = dist::render_screen(MPI_COMM_WORLD, *w.renderer, r.camera, r.width, r.height, r.path, &f.timing);
-    f.frame_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    return f;
-}
-
-void write_buffers(const DistRequest& r, const std::vector<std::uint64_t>& keys)
+void write_buffers(const DistRequest& r, const std::vector<std::uint64_t>& keys, int view, int last)
 {
     if (r.ids.empty() && r.depth.empty()) return;
 #if CLVIS_WITH_IMAGE_IO
     HostVisibility vis = split_keys(keys.data(), r.width, r.height);
-    if (!r.ids.empty()) write_ids(r.ids, vis);
-    if (!r.depth.empty()) write_depth(r.depth, vis);
+    if (!r.ids.empty()) write_ids(view_file_name(r.ids, view, last), vis);
+    if (!r.depth.empty()) write_depth(view_file_name(r.depth, view, last), vis);
 #else
-    (void)keys;
+    (void)keys, (void)view, (void)last;
     throw Error(Error::Kind::InvalidArgument, "--ids/--depth: this clvis was built without OpenImageIO");
 #endif
+}
+
+/// One distributed frame; with `write`, frames mode writes this rank's views' files (read back
+/// in every frame, so that each frame's rank times hold the same work).
+DistFrame one_frame(const DistRequest& r, RankWork& w, bool write)
+{
+    DistFrame f;
+    MPI_Barrier(MPI_COMM_WORLD);
+    auto t0 = std::chrono::steady_clock::now();
+    const Camera& camera = r.cameras.front();
+    if (r.mode == "frames") {
+        int last = int(r.cameras.size()) - 1;
+        std::vector<std::uint64_t> keys;
+        dist::render_frames(MPI_COMM_WORLD, *w.renderer, r.cameras, r.width, r.height, r.path,
+                            [&](int view, const VisibilityBuffer& vis) {
+                                vis.read_keys(keys);
+                                if (write) write_buffers(r, keys, view, last);
+                            },
+                            &f.timing);
+    } else if (r.mode == "scene") {
+        f.keys = dist::render_scene(MPI_COMM_WORLD, w.renderer.get(), w.id_base, camera, r.width, r.height, r.path,
+                                    &f.timing);
+    } else {
+        f.keys = dist::render_screen(MPI_COMM_WORLD, *w.renderer, camera, r.width, r.height, r.path, &f.timing);
+    }
+    f.frame_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return f;
 }
 
 void report(const DistRequest& r, const std::string& device, std::size_t triangles, int ranks,
@@ -86,9 +101,9 @@ void report(const DistRequest& r, const std::string& device, std::size_t triangl
     const DistFrame& best = *std::min_element(frames.begin(), frames.end(),
                                               [](const DistFrame& a, const DistFrame& b) { return a.frame_ms < b.frame_ms; });
     if (!r.quiet) {
-        std::fprintf(stderr, "clvis: %s on %d ranks, %s path: frame %.2f ms; composite %.2f ms (%zu bytes)\n",
-                     r.mode.c_str(), ranks, to_string(r.path), best.frame_ms, best.timing.composite_ms,
-                     best.timing.composite_bytes);
+        std::fprintf(stderr, "clvis: %s on %d ranks, %s path, %zu view(s): frame %.2f ms; composite %.2f ms (%zu bytes)\n",
+                     r.mode.c_str(), ranks, to_string(r.path), r.cameras.size(), best.frame_ms,
+                     best.timing.composite_ms, best.timing.composite_bytes);
         for (std::size_t k = 0; k < best.timing.rank_ms.size(); ++k)
             std::fprintf(stderr, "clvis:   rank %zu: %.2f ms\n", k, best.timing.rank_ms[k]);
     }
@@ -107,7 +122,8 @@ void report(const DistRequest& r, const std::string& device, std::size_t triangl
                      {"rank_ms", best.timing.rank_ms},
                      {"composite_ms", best.timing.composite_ms},
                      {"composite_bytes", best.timing.composite_bytes},
-                     {"camera", r.camera.to_flags()}};
+                     {"views", r.cameras.size()},
+                     {"camera", r.cameras.front().to_flags()}};
     std::cout << j.dump(2) << "\n";
 }
 
@@ -121,11 +137,12 @@ void run(DistRequest& r)
     device_options.spec = r.device_spec;
     Device device = device_options.open();
     RankWork w = prepare(r, device, rank, ranks);
-    if (r.repeat > 0) one_frame(r, w); // warm-up: first launches compile
+    if (r.repeat > 0) one_frame(r, w, false); // warm-up: first launches compile
     std::vector<DistFrame> frames;
-    for (int i = 0; i < std::max(r.repeat, 1); ++i) frames.push_back(one_frame(r, w));
+    int count = std::max(r.repeat, 1);
+    for (int i = 0; i < count; ++i) frames.push_back(one_frame(r, w, i == count - 1));
     if (rank != 0) return;
-    write_buffers(r, frames.back().keys);
+    if (r.mode != "frames") write_buffers(r, frames.back().keys, 0, 0);
     report(r, device.info().name, triangles, ranks, frames);
 }
 

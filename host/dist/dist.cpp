@@ -1,4 +1,4 @@
-// The MPI modes of include/clvis/dist.hpp: splitting rows and triangles between ranks, and
+// The MPI modes of include/clvis/dist.hpp: splitting views, rows and triangles between ranks, and
 // compositing their keys on rank 0 (MPI_Gatherv of row bands; MPI_Reduce with MPI_MIN on
 // MPI_UINT64_T of whole images). Only the public C++ API and MPI's C API below.
 #include <clvis/dist.hpp>
@@ -119,6 +119,30 @@ Scene scene_part(const Scene& scene, Share share)
         first_id += count;
     }
     return part;
+}
+
+Share render_frames(MPI_Comm comm, Renderer& renderer, const std::vector<Camera>& cameras, int width, int height,
+                    Path path, const std::function<void(int view, const VisibilityBuffer& keys)>& on_view,
+                    Timing* timing)
+{
+    check_size(width, height);
+    int rank = rank_in(comm), ranks = size_of(comm);
+    Share mine = share_of(cameras.size(), rank, ranks);
+    auto t0 = Clock::now();
+    if (mine.size() > 0) {
+        std::vector<Camera> views(cameras.begin() + std::ptrdiff_t(mine.first), cameras.begin() + std::ptrdiff_t(mine.last));
+        VisibilityBatch batch(renderer.device(), int(views.size()), width, height);
+        render_views(renderer, views, path, batch);
+        for (int v = 0; v < batch.views(); ++v) on_view(int(mine.first) + v, batch.view(v));
+    }
+    double work_ms = ms_since(t0);
+    std::vector<double> times = gather_times(comm, work_ms);
+    if (timing && rank == 0) {
+        timing->rank_ms = times;
+        timing->composite_ms = 0;
+        timing->composite_bytes = 0;
+    }
+    return mine;
 }
 
 std::vector<std::uint64_t> render_screen(MPI_Comm comm, Renderer& renderer, const Camera& camera, int width,

@@ -1,10 +1,11 @@
 // MPI across processes and nodes (built only where MPI is found: clvis::dist). A communicator's
-// ranks share one frame by screen (sort-first: each renders a band of rows, gathered on rank 0)
+// ranks share many views by frames (each renders its own share of the cameras), or one frame by screen (sort-first: each renders a band of rows, gathered on rank 0)
 // or by scene (sort-last: each holds a share of the triangles with their global ids, renders the
 // whole image, and rank 0 keeps the element-wise minimum of the keys). Both give rank 0 the bits
 // of one process rendering everything, since the key orders by depth, then by id.
 #pragma once
 
+#include <clvis/batch.hpp>
 #include <clvis/render_options.hpp>
 #include <clvis/renderer.hpp>
 #include <clvis/scene.hpp>
@@ -13,6 +14,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -45,6 +47,15 @@ struct Timing {
     double composite_ms = 0;     ///< gathering or reducing the keys onto rank 0, after all finished
     std::size_t composite_bytes = 0; ///< key bytes sent to rank 0's composite, all ranks together
 };
+
+/// Frames: renders this rank's views, share_of(cameras.size(), rank, ranks), as one batch of
+/// width x height (each view bit-identical to rendering it alone), then calls `on_view(v, buffer)`
+/// for each, v being the view's index in `cameras` (to write its files or read its keys). Returns
+/// this rank's share (empty when there are more ranks than views). Nothing is composited: rank
+/// 0's timing has every rank's time for its batch and its on_view calls.
+Share render_frames(MPI_Comm comm, Renderer& renderer, const std::vector<Camera>& cameras, int width, int height,
+                    Path path, const std::function<void(int view, const VisibilityBuffer& keys)>& on_view,
+                    Timing* timing = nullptr);
 
 /// Screen: renders this rank's rows_of() band and gathers the keys on rank 0, which receives the
 /// whole image (width * height keys, row 0 on top); other ranks receive an empty vector.

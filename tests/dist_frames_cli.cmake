@@ -1,0 +1,44 @@
+# clvis render --distribute frames under mpirun: every view's id and depth files, written by the
+# rank that holds the view, hold the pixels of one process rendering the views file (idiff with
+# no tolerance: the files differ only in their time stamps; spot's ids are exact as floats); rank
+# 0 names every rank's time. Run by CTest as `cmake -P` with -DCLVIS=tool -DMPIEXEC=mpirun
+# -DIDIFF=idiff -DRANKS=N -DMESH=scenes/spot.obj -DWORK=dir -DPATH_NAME=raster|ray.
+file(REMOVE_RECURSE ${WORK})
+file(MAKE_DIRECTORY ${WORK})
+# Seven views around spot (its bounds lie within a unit of the origin), an odd image size.
+set(views "")
+foreach(eye "0,0.4,3" "2.5,1,1.5" "-2.5,0.5,1" "0,3,0.5" "1.5,-1,-2.5" "-2,1.5,-2" "3,0,0")
+  string(REPLACE "," ", " eye "${eye}")
+  list(APPEND views "{\"eye\": [${eye}], \"target\": [0, 0.3, 0], \"fov\": 40}")
+endforeach()
+string(REPLACE ";" ",\n  " views "${views}")
+file(WRITE ${WORK}/views.json "{\"width\": 97, \"height\": 61, \"views\": [\n  ${views}\n]}\n")
+
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT status EQUAL 0)
+    string(REPLACE ";" " " command "${ARGN}")
+    message(FATAL_ERROR "${command}: exit status ${status}\n${err}${out}")
+  endif()
+  set(said "${err}" PARENT_SCOPE)
+endfunction()
+
+set(common ${MESH} --views ${WORK}/views.json --path ${PATH_NAME} -q)
+run(${CLVIS} render ${common} --ids ${WORK}/one-{view}.tif --depth ${WORK}/one-{view}.exr)
+run(${MPIEXEC} --allow-run-as-root --oversubscribe -np ${RANKS} ${CLVIS} render ${MESH} --views ${WORK}/views.json
+    --path ${PATH_NAME} --distribute frames --ids ${WORK}/dist-{view}.tif --depth ${WORK}/dist-{view}.exr)
+math(EXPR last_rank "${RANKS} - 1")
+if(NOT said MATCHES "frames on ${RANKS} ranks" OR NOT said MATCHES "rank 0: [0-9.]+ ms"
+   OR NOT said MATCHES "rank ${last_rank}: [0-9.]+ ms")
+  message(FATAL_ERROR "rank 0 does not report every rank's time:\n${said}")
+endif()
+foreach(v RANGE 0 6)
+  foreach(kind tif exr)
+    execute_process(COMMAND ${IDIFF} -fail 0 -warn 0 ${WORK}/one-${v}.${kind} ${WORK}/dist-${v}.${kind}
+                    RESULT_VARIABLE differ OUTPUT_VARIABLE out ERROR_VARIABLE out)
+    if(NOT differ EQUAL 0)
+      message(FATAL_ERROR "view ${v}: dist-${v}.${kind} differs from one process's one-${v}.${kind}:\n${out}")
+    endif()
+  endforeach()
+endforeach()
+message(STATUS "frames on ${RANKS} ranks, ${PATH_NAME} path: 7 views' files equal to one process's")
