@@ -3,6 +3,7 @@
 // <CL/cl.h> into its users nor picks their OpenCL version (device.hpp declares the handles it
 // uses itself).
 #include <clvis/clvis.hpp>
+#include <clvis/multi_device.hpp> // outside the umbrella, light all the same
 
 #if defined(__OPENCL_CL_H) || defined(__CL_PLATFORM_H) || defined(CL_SUCCESS)
 #error "a clvis header included an OpenCL header"
