@@ -2,6 +2,7 @@
 // of CONVENTIONS.md's --json. With --path all both paths run and the referee compares them.
 #include "commands.hpp"
 #include "options.hpp"
+#include "render_multi.hpp"
 #if CLVIS_WITH_MPI
 #include "render_dist.hpp"
 #endif
@@ -42,6 +43,8 @@ struct RenderArgs {
     bool timings = false; ///< --timings: what the first frame costs, phase by phase
     int width = 0, height = 0; ///< the image size, once resolved
     std::string distribute; ///< --distribute frames|screen|scene (under mpirun)
+    std::string devices, device_map; ///< --devices SPEC,SPEC,...: one frame on several devices
+    int screen_tile = 64;            ///< --screen-tile: their tiles' edge in pixels
 };
 
 /// "out.png" -> "out-ray.png" when several paths write files.
@@ -416,7 +419,17 @@ void render_command(RenderArgs a)
     if (cameras.empty()) cameras.push_back(camera);
     if (file.scene.empty()) throw Error(Error::Kind::InvalidArgument, "the scene holds no triangles");
     if (a.ao > 0 && a.image.empty()) throw Error(Error::Kind::InvalidArgument, "--ao: needs --image FILE to write");
+    if (!a.device_map.empty() && a.devices.empty())
+        throw Error(Error::Kind::InvalidArgument, "--device-map: needs --devices SPEC,SPEC,...");
 
+    if (!a.devices.empty()) {
+        if (a.path == "all" || !a.views.empty() || !a.image.empty() || !a.distribute.empty() || !a.device.spec.empty())
+            throw Error(Error::Kind::InvalidArgument, "--devices renders one camera by one path into --ids/--depth; "
+                                                      "--path all, --views, --image, --distribute and --device are not for it");
+        render_multi_device({device_specs(a.devices), &file, load_ms, camera, a.width, a.height, path_from_string(a.path),
+                             render_options(a), a.screen_tile, a.ids, a.depth, a.device_map, a.repeat, a.json, a.quiet});
+        return;
+    }
 #if CLVIS_WITH_MPI
     if (!a.distribute.empty()) {
         if (a.path == "all" || !a.image.empty())
@@ -512,6 +525,10 @@ void add_render_command(CLI::App& app)
                     "(triangles per rank, keys reduced by min)")
         ->check(CLI::IsMember({"frames", "screen", "scene"}));
 #endif
+    cmd->add_option("--devices", args->devices, "several devices, one frame: SPEC,SPEC,... (as --device), tiles shared out");
+    cmd->add_option("--screen-tile", args->screen_tile, "with --devices: the screen tiles' edge in pixels")
+        ->check(CLI::Range(1, 4096));
+    cmd->add_option("--device-map", args->device_map, "with --devices: an image of which device drew each tile (.png, ...)");
     cmd->add_flag("--json", args->json, "print one JSON object with the timings on standard output");
     cmd->add_flag("--timings", args->timings,
                   "what a one-off render pays before its first frame: device open, renderer (upload), prepare "

@@ -1,0 +1,32 @@
+# clvis render --devices 0,1: the frame two devices drew (PoCL's CPU listed twice by the CTest
+# entry) holds the pixels of one device's frame (idiff with no tolerance: the files differ only in
+# their time stamps), by both paths, with odd tiles; each device's share is said. Run by CTest as
+# `cmake -P` with -DCLVIS=tool -DIDIFF=idiff -DMESH=scenes/spot.obj -DWORK=dir.
+file(REMOVE_RECURSE ${WORK})
+file(MAKE_DIRECTORY ${WORK})
+
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT status EQUAL 0)
+    string(REPLACE ";" " " command "${ARGN}")
+    message(FATAL_ERROR "${command}: exit status ${status}\n${err}${out}")
+  endif()
+  set(said "${err}" PARENT_SCOPE)
+endfunction()
+
+set(view ${MESH} --width 203 --height 117 --eye 0.5,0.8,2.5 --target 0,0.3,0)
+foreach(path raster ray)
+  run(${CLVIS} render ${view} --path ${path} --device 0 -q --ids ${WORK}/one-${path}.tif --depth ${WORK}/one-${path}.exr)
+  run(${CLVIS} render ${view} --path ${path} --devices 0,1 --screen-tile 37 --ids ${WORK}/two-${path}.tif
+      --depth ${WORK}/two-${path}.exr --device-map ${WORK}/map-${path}.png)
+  if(NOT said MATCHES "device 0 \\([^)]+\\): [0-9]+ tiles" OR NOT said MATCHES "device 1 \\([^)]+\\): [0-9]+ tiles")
+    message(FATAL_ERROR "--devices does not say each device's share:\n${said}")
+  endif()
+  foreach(kind tif exr)
+    execute_process(COMMAND ${IDIFF} -fail 0 -warn 0 ${WORK}/one-${path}.${kind} ${WORK}/two-${path}.${kind}
+                    RESULT_VARIABLE differ OUTPUT_VARIABLE out ERROR_VARIABLE out)
+    if(NOT differ EQUAL 0)
+      message(FATAL_ERROR "${path} path: two devices' ${kind} differs from one device's:\n${out}")
+    endif()
+  endforeach()
+endforeach()
