@@ -48,6 +48,16 @@ std::vector<double> gather_times(MPI_Comm comm, double ms)
     return rank_in(comm) == 0 ? all : std::vector<double>{};
 }
 
+/// Every rank's `work_ms` (and rank 0's composite) into rank 0's `timing`, when asked for.
+void report_times(MPI_Comm comm, Timing* timing, double work_ms, double composite_ms, std::size_t composite_bytes)
+{
+    std::vector<double> times = gather_times(comm, work_ms);
+    if (!timing || rank_in(comm) != 0) return;
+    timing->rank_ms = times;
+    timing->composite_ms = composite_ms;
+    timing->composite_bytes = composite_bytes;
+}
+
 void check_size(int width, int height)
 {
     if (width <= 0 || height <= 0)
@@ -135,13 +145,7 @@ Share render_frames(MPI_Comm comm, Renderer& renderer, const std::vector<Camera>
         render_views(renderer, views, path, batch);
         for (int v = 0; v < batch.views(); ++v) on_view(int(mine.first) + v, batch.view(v));
     }
-    double work_ms = ms_since(t0);
-    std::vector<double> times = gather_times(comm, work_ms);
-    if (timing && rank == 0) {
-        timing->rank_ms = times;
-        timing->composite_ms = 0;
-        timing->composite_bytes = 0;
-    }
+    report_times(comm, timing, ms_since(t0), 0, 0);
     return mine;
 }
 
@@ -171,13 +175,7 @@ std::vector<std::uint64_t> render_screen(MPI_Comm comm, Renderer& renderer, cons
     check_mpi(MPI_Gatherv(mine.data(), int(mine.size()), MPI_UINT64_T, whole.data(), counts.data(), offsets.data(),
                           MPI_UINT64_T, 0, comm),
               "MPI_Gatherv of row bands");
-    double composite_ms = ms_since(t1);
-    std::vector<double> times = gather_times(comm, work_ms);
-    if (timing && rank == 0) {
-        timing->rank_ms = times;
-        timing->composite_ms = composite_ms;
-        timing->composite_bytes = std::size_t(width) * std::size_t(height) * 8;
-    }
+    report_times(comm, timing, work_ms, ms_since(t1), std::size_t(width) * std::size_t(height) * 8);
     return whole;
 }
 
@@ -200,13 +198,7 @@ std::vector<std::uint64_t> render_scene(MPI_Comm comm, Renderer* renderer, std::
     auto t1 = Clock::now();
     check_mpi(MPI_Reduce(mine.data(), whole.data(), int(mine.size()), MPI_UINT64_T, MPI_MIN, 0, comm),
               "MPI_Reduce (MPI_MIN) of keys");
-    double composite_ms = ms_since(t1);
-    std::vector<double> times = gather_times(comm, work_ms);
-    if (timing && rank == 0) {
-        timing->rank_ms = times;
-        timing->composite_ms = composite_ms;
-        timing->composite_bytes = mine.size() * 8 * std::size_t(ranks);
-    }
+    report_times(comm, timing, work_ms, ms_since(t1), mine.size() * 8 * std::size_t(ranks));
     return whole;
 }
 
