@@ -171,8 +171,12 @@ void MultiDeviceRenderer::render(const Camera& camera, int width, int height, Pa
         }
     };
     std::vector<std::thread> threads;
-    for (std::size_t d = 1; d < renderers_.size(); ++d) threads.emplace_back(work, d);
-    work(0); // this thread drives the first device
+    try {
+        for (std::size_t d = 1; d < renderers_.size(); ++d) threads.emplace_back(work, d);
+    } catch (...) { // no thread for the next device: stop the others, join them, report it
+        failure.keep(threads.size() + 1, renderers_[threads.size() + 1].device().info().name);
+    }
+    work(0); // this thread drives the first device (it stops at once after a failure)
     for (auto& t : threads) t.join();
     failure.rethrow();
     out.frame_ms = ms_since(t0);
