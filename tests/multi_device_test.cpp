@@ -119,3 +119,33 @@ TEST_CASE("a device that cannot render is named, and bad tile sizes are refused"
     REQUIRE_THROWS_WITH(many.render(camera, 0, 64, Path::Raster), Catch::Contains("image size"));
     REQUIRE_THROWS_WITH(many.renderer(devices.size()), Catch::Contains("no device"));
 }
+
+// Two platforms in one frame: PoCL's CPU device and Mesa's Rusticl on llvmpipe (the CTest entry
+// multi_device_mixed sets RUSTICL_ENABLE=llvmpipe where Mesa's ICD is installed). Rusticl has no
+// 64-bit atomics: its raster pipeline fails on its first tile, mid-frame, and must be named.
+TEST_CASE("a CPU device and another platform's device draw one frame together", "[.mixed_platforms]")
+{
+    std::vector<Device> devices;
+    for (const DeviceInfo& info : list_devices())
+        if (info.platform.find("Portable") == 0 || info.platform == "rusticl")
+            devices.push_back(Device::open(std::to_string(info.index)));
+    REQUIRE(devices.size() == 2);
+    REQUIRE(devices[0].info().platform != devices[1].info().platform);
+    Scene scene = mixed_scene();
+    Camera camera = Camera::framing(scene.bounds());
+    MultiDeviceOptions o;
+    o.tile = 16;
+    MultiDeviceRenderer many(devices, scene);
+    std::vector<std::uint64_t> want = Renderer(devices[0], scene).render(camera, 61, 37, Path::Ray).read_keys();
+    MultiDeviceFrame f = many.render(camera, 61, 37, Path::Ray, o);
+    CHECK(f.keys == want);
+    std::size_t rusticl = devices[0].info().platform == "rusticl" ? 0 : 1;
+    std::string name = devices[rusticl].info().name;
+    CHECK(f.devices[rusticl].device == name);
+    INFO("tiles drawn: " << f.devices[0].tiles << " and " << f.devices[1].tiles);
+    CHECK(f.devices[0].tiles + f.devices[1].tiles == f.tiles);
+    if (!devices[rusticl].info().int64_atomics) // the raster path, never prepared: fails inside the frame
+        REQUIRE_THROWS_WITH(many.render(camera, 61, 37, Path::Raster, o),
+                            Catch::Contains("device " + std::to_string(rusticl) + " (" + name + "): ") &&
+                                Catch::Contains("64-bit atomics"));
+}
