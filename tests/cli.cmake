@@ -45,6 +45,12 @@ expect(2 "meshes" render)
 expect(2 "--bogus" info ${MESH} --bogus)
 expect(2 "--bogus" compare a.tif b.tif ${MESH} --bogus)
 expect(2 "^clvis: " bogus-command)
+# Several devices: what --devices cannot be combined with is refused, the flag named.
+expect(2 "clvis: --devices renders one path" render ${MESH} --devices 0,0 --path all)
+expect(2 "clvis: --devices renders one camera" render ${MESH} --devices 0,0 --device 0)
+expect(2 "clvis: --devices: expected SPEC,SPEC" render ${MESH} --devices 0,,1)
+expect(2 "clvis: --device-map: needs --devices" render ${MESH} --device-map ${WORK}/map.png)
+expect(2 "--screen-tile" render ${MESH} --devices 0,0 --screen-tile 0)
 expect(0 "render" --help)
 expect(0 "clvis [0-9]" --version)
 

@@ -2,10 +2,8 @@
 // of CONVENTIONS.md's --json. With --path all both paths run and the referee compares them.
 #include "commands.hpp"
 #include "options.hpp"
-#include "render_multi.hpp"
-#if CLVIS_WITH_MPI
-#include "render_dist.hpp"
-#endif
+#include "render_ao.hpp"
+#include "render_spread.hpp"
 
 #include "bench_stats.hpp"
 
@@ -42,9 +40,7 @@ struct RenderArgs {
     bool quiet = false;
     bool timings = false; ///< --timings: what the first frame costs, phase by phase
     int width = 0, height = 0; ///< the image size, once resolved
-    std::string distribute; ///< --distribute frames|screen|scene (under mpirun)
-    std::string devices, device_map; ///< --devices SPEC,SPEC,...: one frame on several devices
-    int screen_tile = 64;            ///< --screen-tile: their tiles' edge in pixels
+    SpreadArgs spread; ///< --devices, --distribute: several devices or MPI ranks
 };
 
 /// "out.png" -> "out-ray.png" when several paths write files.
@@ -56,34 +52,6 @@ std::string with_suffix(const std::string& file, const std::string& suffix, bool
     if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return file + "-" + suffix;
     return file.substr(0, dot) + "-" + suffix + file.substr(dot);
 }
-
-#if CLVIS_WITH_IMAGE_IO
-/// The ambient occlusion of `vis` as a grey image (white: open sky; black: background).
-Image ao_image(Renderer& renderer, const VisibilityBuffer& vis, const Camera& camera, int rays, bool quiet)
-{
-    RayQuery query(renderer);
-    AoOptions o;
-    o.rays = rays;
-    PixelRays ao = query.ambient_occlusion(vis, camera, o);
-    if (!quiet) {
-        char buf[160];
-        std::snprintf(buf, sizeof buf, "clvis: ambient occlusion: %zu rays in %.2f ms on the device (%.2f Mrays/s)",
-                      ao.stats.rays, ao.stats.device_ms, double(ao.stats.rays) / (ao.stats.device_ms * 1e3));
-        std::cerr << buf << "\n";
-    }
-    HostVisibility ids = vis.read();
-    Image img;
-    img.width = ao.width;
-    img.height = ao.height;
-    img.rgba.resize(ao.value.size() * 4);
-    for (std::size_t i = 0; i < ao.value.size(); ++i) {
-        auto g = ids.ids[i] == background_id ? std::uint8_t(0) : std::uint8_t(ao.value[i] * 255.0f + 0.5f);
-        img.rgba[4 * i] = img.rgba[4 * i + 1] = img.rgba[4 * i + 2] = g;
-        img.rgba[4 * i + 3] = 255;
-    }
-    return img;
-}
-#endif
 
 #if !CLVIS_WITH_IMAGE_IO
 [[noreturn]] void no_image_io(const std::string& flag)
@@ -419,31 +387,9 @@ void render_command(RenderArgs a)
     if (cameras.empty()) cameras.push_back(camera);
     if (file.scene.empty()) throw Error(Error::Kind::InvalidArgument, "the scene holds no triangles");
     if (a.ao > 0 && a.image.empty()) throw Error(Error::Kind::InvalidArgument, "--ao: needs --image FILE to write");
-    if (!a.device_map.empty() && a.devices.empty())
-        throw Error(Error::Kind::InvalidArgument, "--device-map: needs --devices SPEC,SPEC,...");
-
-    if (!a.devices.empty()) {
-        if (a.path == "all" || !a.views.empty() || !a.image.empty() || !a.distribute.empty() || !a.device.spec.empty())
-            throw Error(Error::Kind::InvalidArgument, "--devices renders one camera by one path into --ids/--depth; "
-                                                      "--path all, --views, --image, --distribute and --device are not for it");
-        render_multi_device({device_specs(a.devices), &file, load_ms, camera, a.width, a.height, path_from_string(a.path),
-                             render_options(a), a.screen_tile, a.ids, a.depth, a.device_map, a.repeat, a.json, a.quiet});
-        return;
-    }
-#if CLVIS_WITH_MPI
-    if (!a.distribute.empty()) {
-        if (a.path == "all" || !a.image.empty())
-            throw Error(Error::Kind::InvalidArgument, "--distribute renders one path (raster, ray or brute) into "
-                                                      "--ids/--depth; --path all and --image are for one process");
-        if ((a.distribute == "frames") != !a.views.empty())
-            throw Error(Error::Kind::InvalidArgument, "--distribute frames splits the views of --views FILE; screen "
-                                                      "and scene share one camera's frame");
-        render_distributed({a.distribute, std::move(file), load_ms, cameras, view.width, view.height,
-                            path_from_string(a.path), render_options(a), a.device.spec, a.ids, a.depth, a.repeat,
-                            a.json, a.quiet});
-        return;
-    }
-#endif
+    if (a.spread.any())
+        return render_spread(a.spread, {a.path, a.views, a.image, a.device.spec, &file, load_ms, cameras, a.width,
+                                        a.height, render_options(a), a.ids, a.depth, a.repeat, a.json, a.quiet});
     std::vector<Path> paths;
     if (a.path == "all" && !a.views.empty())
         throw Error(Error::Kind::InvalidArgument, "--views: renders one path (--path raster, ray or brute), not all");
@@ -519,16 +465,7 @@ void add_render_command(CLI::App& app)
     cmd->add_option("--cull", args->cull, "face culling: none, back or front")
         ->check(CLI::IsMember({"none", "back", "front"}));
     cmd->add_option("--leaf-size", args->leaf, "BVH: triangles per leaf at most");
-#if CLVIS_WITH_MPI
-    cmd->add_option("--distribute", args->distribute,
-                    "under mpirun: frames (--views split by rank), screen (rows per rank, gathered) or scene "
-                    "(triangles per rank, keys reduced by min)")
-        ->check(CLI::IsMember({"frames", "screen", "scene"}));
-#endif
-    cmd->add_option("--devices", args->devices, "several devices, one frame: SPEC,SPEC,... (as --device), tiles shared out");
-    cmd->add_option("--screen-tile", args->screen_tile, "with --devices: the screen tiles' edge in pixels")
-        ->check(CLI::Range(1, 4096));
-    cmd->add_option("--device-map", args->device_map, "with --devices: an image of which device drew each tile (.png, ...)");
+    args->spread.add_to(*cmd);
     cmd->add_flag("--json", args->json, "print one JSON object with the timings on standard output");
     cmd->add_flag("--timings", args->timings,
                   "what a one-off render pays before its first frame: device open, renderer (upload), prepare "
