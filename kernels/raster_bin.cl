@@ -1,8 +1,7 @@
 /* Raster path, stage 2 of 3: bins the triangles that raster_setup.cl listed into screen tiles.
    raster_bin_count counts the triangles touching each tile, raster_bin_scan turns the counts
    into bin offsets (the host sizes the bins from its total), raster_bin_fill writes each bin;
-   raster_fine.cl walks the bins. */
-#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+   raster_fine.cl walks the bins. Only 32-bit atomics: it builds on devices without 64-bit ones. */
 #include "shared/raster.h"
 
 /* Calls BODY(tile) for every tile of `tile_log2` whose pixel centres triangle t may cover. */

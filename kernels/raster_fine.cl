@@ -1,10 +1,20 @@
 /* Raster path, stage 3 of 3: rasterizes the binned triangles of raster_bin.cl tile by tile. A
    work-item owns a square of up to CLVIS_FINE_SUB pixels a side inside one tile, walks the tile's
    bin, evaluates only the 8-pixel row spans each triangle's box touches (clvis_raster_span8),
-   keeps the nearest keys in private memory, then merges them with what raster_setup.cl wrote. */
+   keeps the nearest keys in private memory, then merges them with what raster_setup.cl wrote
+   (atomic mode) or, built with CLVIS_RASTER_OWNED (tile ownership: every triangle was binned),
+   writes them, background included: each key of the buffer is written once, by its owner. */
 #include "shared/raster.h"
 
 #define CLVIS_FINE_SPANS (CLVIS_FINE_SUB / 8) /* 8-pixel spans per row of the square */
+
+/* What a work-item leaves in a key it owns: its nearest key merged with what the small triangles
+   of raster_setup.cl left there (atomic mode), or its nearest key alone (tile ownership). */
+#ifdef CLVIS_RASTER_OWNED
+#define CLVIS_FINE_MERGE(kept, stored) (kept)
+#else
+#define CLVIS_FINE_MERGE(kept, stored) min((kept), (stored))
+#endif
 
 __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const uint* entries,
                           __global const uint* offsets, int tile_log2, int tiles_x, clvis_camera_gpu cam,
@@ -46,15 +56,17 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
     for (int j = py0; j <= py1; ++j) {
         for (int s = 0; 8 * s <= px1 - px0; ++s) {
             ulong8 b = best[j - py0][s];
-            if (all(b == (ulong8)(CLVIS_BACKGROUND_KEY))) continue;
             int i0 = px0 + 8 * s, count = min(8, px1 - i0 + 1);
             __global ulong* row = keys + (size_t)j * (size_t)cam.width + (size_t)i0;
+#ifndef CLVIS_RASTER_OWNED
+            if (all(b == (ulong8)(CLVIS_BACKGROUND_KEY))) continue; /* nothing to merge */
+#endif
             if (count == 8) {
-                vstore8(min(b, vload8(0, row)), 0, row);
+                vstore8(CLVIS_FINE_MERGE(b, vload8(0, row)), 0, row);
             } else {
                 ulong lane[8];
                 vstore8(b, 0, lane);
-                for (int l = 0; l < count; ++l) row[l] = min(row[l], lane[l]);
+                for (int l = 0; l < count; ++l) row[l] = CLVIS_FINE_MERGE(lane[l], row[l]);
             }
         }
     }

@@ -2,7 +2,9 @@
 // the device against hand-made cases with known answers (shared edges and vertices on pixel
 // centres, near, far, behind, huge, degenerate, coincident, orthographic, culling, crowded
 // tiles), a plain double-precision ray-cast reference on small random scenes, closed meshes
-// from outside and inside, and determinism across runs and tile sizes.
+// from outside and inside, and determinism across runs and tile sizes. Every frame drawn through
+// render() is drawn twice, with the atomic depth test and with tile ownership, and the two must
+// give the same keys bit for bit.
 #include "catch.hpp"
 #include "test_meshes.hpp"
 
@@ -55,17 +57,26 @@ MeshData mesh_of(const std::vector<float>& positions, const std::vector<std::uin
     return m;
 }
 
-HostVisibility render(const Scene& scene, const Camera& camera, int w, int h, RenderOptions options = {})
-{
-    Renderer r(device(), scene, options);
-    return r.render(camera, w, h, Path::Raster).read();
-}
-
+/// The raster path's keys with `options`; where the device has 64-bit atomics, also checks that
+/// the atomic depth test and tile ownership (RasterAtomics::On and Off) give them bit for bit.
 std::vector<std::uint64_t> render_keys(const Scene& scene, const Camera& camera, int w, int h,
                                        RenderOptions options = {})
 {
     Renderer r(device(), scene, options);
-    return r.render(camera, w, h, Path::Raster).read_keys();
+    std::vector<std::uint64_t> keys = r.render(camera, w, h, Path::Raster).read_keys();
+    if (device().info().int64_atomics) {
+        options.raster_atomics = options.raster_atomics == RasterAtomics::Off ? RasterAtomics::On : RasterAtomics::Off;
+        Renderer other(device(), scene, options);
+        INFO("raster atomics " << to_string(options.raster_atomics) << " against the default, " << w << "x" << h);
+        CHECK(other.render(camera, w, h, Path::Raster).read_keys() == keys);
+    }
+    return keys;
+}
+
+HostVisibility render(const Scene& scene, const Camera& camera, int w, int h, RenderOptions options = {})
+{
+    std::vector<std::uint64_t> keys = render_keys(scene, camera, w, h, options);
+    return split_keys(keys.data(), w, h);
 }
 
 /// Orthographic camera looking down -z whose world x, y map to raster x - w/2, h/2 - y: with

@@ -1,7 +1,10 @@
 // The raster path: raster_setup.cl projects and clips every triangle, rasterizes the small ones
-// at once and lists the others; raster_bin.cl bins those into tiles (count, scan, fill);
-// raster_fine.cl rasterizes each tile's bin. The host plans every capacity from counts read back
-// during the frame and grows buffers (re-running the stage that overflowed) rather than drop.
+// at once (64-bit atomic min) and lists the others; raster_bin.cl bins those into tiles (count,
+// scan, fill); raster_fine.cl rasterizes each tile's bin. Under tile ownership (RasterAtomics::Off,
+// or Auto on a device without 64-bit atomics) setup lists every triangle and raster_fine.cl writes
+// every key once, with no clear and no atomics on the keys. The host plans every capacity from
+// counts read back during the frame and grows buffers (re-running the stage that overflowed)
+// rather than drop.
 #include "render/pipeline.hpp"
 
 #include "runtime/cl_runtime.hpp"
@@ -57,15 +60,18 @@ struct RasterPipeline::Impl {
     Device::Impl& device;
     int tile_log2 = default_tile_log2;
     int cull = CLVIS_CULL_NONE;
+    bool owned = false; ///< tile ownership: kernels built with CLVIS_RASTER_OWNED
     cl::Kernel clear, zero, vertices, setup, bin_count, bin_scan, bin_fill, fine;
     std::size_t zero_group = 1, vertex_group = 1, setup_group = 1, bin_group = 1, scan_items = 1;
     cl::NDRange fine_group;
-    cl::Buffer counters; ///< ulong[2]: triangles listed by setup, bin entries
+    cl::Buffer counters; ///< uint[2] triangles listed by setup (low, high word), ulong bin entries
     cl::Buffer projected, tris, entries, tile_counts, offsets, cursors;
     std::size_t projected_capacity = 0, tri_capacity = 0, entry_capacity = 0, tile_capacity = 0;
 
     Impl(Device::Impl& d, const RenderOptions& o) : device(d), cull(cull_mode(o.cull))
     {
+        owned = o.raster_atomics == RasterAtomics::Off ||
+                (o.raster_atomics == RasterAtomics::Auto && !device.info.int64_atomics);
         if (o.tile_size != 0) {
             tile_log2 = 0;
             while ((1 << tile_log2) < o.tile_size) ++tile_log2;
@@ -127,10 +133,16 @@ struct RasterPipeline::Impl {
         frame.stages->add(stage, done);
     }
 
-    cl_ulong read_counter(Frame& frame, int index)
+    /// The triangles setup listed (two 32-bit words) or, `listed` false, the bin entries.
+    cl_ulong read_counter(Frame& frame, bool listed)
     {
+        if (listed) {
+            cl_uint words[2] = {0, 0};
+            frame.queue.enqueueReadBuffer(counters, CL_TRUE, 0, sizeof words, words);
+            return cl_ulong(words[0]) | cl_ulong(words[1]) << 32;
+        }
         cl_ulong value = 0;
-        frame.queue.enqueueReadBuffer(counters, CL_TRUE, sizeof(cl_ulong) * index, sizeof value, &value);
+        frame.queue.enqueueReadBuffer(counters, CL_TRUE, sizeof(cl_ulong), sizeof value, &value);
         return value;
     }
 
@@ -162,9 +174,9 @@ struct RasterPipeline::Impl {
                                              cl::NDRange(round_up(scene.triangle_count, setup_group)),
                                              cl::NDRange(setup_group), nullptr, &done);
             frame.stages->add("setup", done);
-            cl_ulong listed = read_counter(frame, 0);
+            cl_ulong listed = read_counter(frame, true);
             if (listed <= tri_capacity) return std::size_t(listed);
-            // Small triangles already written are harmless to write again (atomic min).
+            // Small triangles already written (atomic mode) are harmless to write again (atomic min).
             reserve(tris, tri_capacity, std::size_t(listed), sizeof(clvis_raster_tri), first_tri_capacity,
                     "list of triangles to bin");
         }
@@ -193,9 +205,14 @@ struct RasterPipeline::Impl {
             cursors = make_buffer((tiles + 1) * sizeof(cl_uint));
             tile_capacity = tiles + 1;
         }
-        clear_keys(clear, frame);
+        // Tile ownership writes every key in raster_fine.cl: the clear is needed only when
+        // nothing is listed (and raster_fine.cl does not run).
+        if (!owned) clear_keys(clear, frame);
         std::size_t listed = run_setup(scene, frame);
-        if (listed == 0) return;
+        if (listed == 0) {
+            if (owned) clear_keys(clear, frame);
+            return;
+        }
 
         int tile = 1 << tile_log2;
         int tiles_x = (frame.width + tile - 1) / tile, tiles_y = (frame.height + tile - 1) / tile;
@@ -219,7 +236,7 @@ struct RasterPipeline::Impl {
         frame.queue.enqueueNDRangeKernel(bin_scan, cl::NullRange, cl::NDRange(scan_items), cl::NDRange(scan_items),
                                          nullptr, &scanned);
         frame.stages->add("bin", scanned);
-        cl_ulong total = read_counter(frame, 1);
+        cl_ulong total = read_counter(frame, false);
         if (total > 0xFFFFFFFFull)
             throw Error(Error::Kind::Limit, "the raster path's bins would hold " + std::to_string(total) +
                                                 " entries, more than 32-bit offsets address");
@@ -252,15 +269,16 @@ struct RasterPipeline::Impl {
 RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& options)
     : impl_(std::make_unique<Impl>(device, options))
 {
-    if (!device.info.int64_atomics)
+    if (options.raster_atomics == RasterAtomics::On && !device.info.int64_atomics)
         throw Error(Error::Kind::Device,
-                    "the raster path needs 64-bit atomics (cl_khr_int64_base_atomics and "
-                    "cl_khr_int64_extended_atomics) for its depth test, which " +
-                        device.info.name + " does not offer; use the ray path on this device");
+                    "the raster path's atomic depth test (raster atomics 'on') needs 64-bit atomics "
+                    "(cl_khr_int64_base_atomics and cl_khr_int64_extended_atomics), which " +
+                        device.info.name + " does not offer; use raster atomics 'auto' or 'off' (tile ownership)");
     Impl& m = *impl_;
+    const std::string variant = m.owned ? "-DCLVIS_RASTER_OWNED" : "";
     try {
         m.clear = make_clear_kernel(device);
-        cl::Program setup = device.program("raster_setup");
+        cl::Program setup = device.program("raster_setup", variant);
         m.vertices = cl::Kernel(setup, "raster_setup_vertices");
         m.setup = cl::Kernel(setup, "raster_setup");
         cl::Program bin = device.program("raster_bin");
@@ -268,7 +286,7 @@ RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& option
         m.bin_count = cl::Kernel(bin, "raster_bin_count");
         m.bin_scan = cl::Kernel(bin, "raster_bin_scan");
         m.bin_fill = cl::Kernel(bin, "raster_bin_fill");
-        m.fine = cl::Kernel(device.program("raster_fine"), "raster_fine");
+        m.fine = cl::Kernel(device.program("raster_fine", variant), "raster_fine");
         m.pick_groups();
         m.counters = m.make_buffer(2 * sizeof(cl_ulong));
         m.reserve(m.tris, m.tri_capacity, first_tri_capacity, sizeof(clvis_raster_tri), first_tri_capacity,
