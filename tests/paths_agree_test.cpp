@@ -506,7 +506,7 @@ TEST_CASE("both paths are right on the bundled meshes from many cameras at large
 }
 
 TEST_CASE("a plane face-on, samples on shared edges and vertices, no error, no hole",
-          "[device][agree]")
+          "[device][agree][rusticl]")
 {
     Device device = Device::open();
     Tally tally;
@@ -536,7 +536,7 @@ TEST_CASE("a plane face-on, samples on shared edges and vertices, no error, no h
                 tally.explained);
 }
 
-TEST_CASE("a tessellated plane edge-on and at grazing angles, no errors", "[device][agree]")
+TEST_CASE("a tessellated plane edge-on and at grazing angles, no errors", "[device][agree][rusticl]")
 {
     Device device = Device::open();
     Tally tally;
@@ -586,7 +586,7 @@ TEST_CASE("coincident triangles go to the lower id; intersecting ones give no er
     }
 }
 
-TEST_CASE("slivers, needles and zero-area triangles, no errors", "[device][agree]")
+TEST_CASE("slivers, needles and zero-area triangles, no errors", "[device][agree][rusticl]")
 {
     Device device = Device::open();
     Tally tally;

@@ -374,6 +374,27 @@ void Device::Impl::check_allocation(std::uint64_t bytes, const std::string& what
                         info.name + " can allocate (" + std::to_string(info.max_allocation) + " bytes)");
 }
 
+std::uint32_t Device::Impl::loop_limit()
+{
+    // More trips than any kernel's loops run in one work-item on a device that does not cap them.
+    constexpr cl_uint trips = 1u << 20;
+    cl::Kernel probe(program("device_probe"), "device_probe_loops");
+    std::lock_guard<std::mutex> lock(mutex);
+    if (measured_loop_limit != 0) return measured_loop_limit;
+    try {
+        cl_uint words[3] = {0, 0, 0};
+        cl::Buffer done(context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof words, words);
+        probe.setArg(0, trips);
+        probe.setArg(1, done);
+        queue.enqueueNDRangeKernel(probe, cl::NullRange, cl::NDRange(1), cl::NDRange(1));
+        queue.enqueueReadBuffer(done, CL_TRUE, 0, sizeof words, words);
+        measured_loop_limit = words[0] >= trips ? loop_unlimited : std::max<cl_uint>(words[0], 1);
+    } catch (const cl::Error& e) {
+        throw_cl_error(e, "probing the loops of " + info.name);
+    }
+    return measured_loop_limit;
+}
+
 std::string Device::Impl::build_options(const std::string& extra) const
 {
     std::string options = "-cl-std=CL1.2";

@@ -404,5 +404,13 @@ static inline int clvis_raster_overlaps(const clvis_raster_tri* t, int i0, int j
    the square the tile); a multiple of the span of clvis_raster_span8. The host sizes the launch
    from it. */
 #define CLVIS_FINE_SUB 16
+#define CLVIS_FINE_SPANS (CLVIS_FINE_SUB / 8) /* 8-pixel spans per row of the square */
+/* Passes through loop headers of one work-item of raster_fine.cl, at most (a loop of n iterations
+   counts n + 1, the pass that leaves it included, as Mesa's llvmpipe counts them): per bin entry
+   (the entry; each row; each span), and for the rest (clearing, then storing, the square's spans,
+   a partial span's lanes). The host splits the bins into launches that stay within half a
+   device's loop limit (Device::Impl::loop_limit). */
+#define CLVIS_FINE_TRIPS_PER_ENTRY (2 + CLVIS_FINE_SUB * (2 + CLVIS_FINE_SPANS))
+#define CLVIS_FINE_TRIPS_FIXED (2 * (1 + CLVIS_FINE_SUB * (2 + CLVIS_FINE_SPANS)) + 9)
 
 #endif
