@@ -11,6 +11,7 @@
 #include <clvis/clvis.hpp>
 
 #include <algorithm>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -146,4 +147,42 @@ TEST_CASE("tile ownership draws nothing as the background, and grows its list of
     std::vector<std::uint64_t> off = raster_keys(d, grid, c, 160, 160, RasterAtomics::Off);
     CHECK(test::covered(split_keys(off.data(), 160, 160)) > 100 * 100);
     if (d.info().int64_atomics) CHECK(off == raster_keys(d, grid, c, 160, 160, RasterAtomics::On));
+}
+
+TEST_CASE("a device's loop cap is measured, and long bins are drawn in chunks within it",
+          "[device][raster][rusticl]")
+{
+    Device d = Device::open();
+    std::uint32_t limit = d.impl()->loop_limit();
+    CHECK(limit == d.impl()->loop_limit());
+    CHECK(limit > 1000u);
+    INFO("loop limit " << limit);
+    // A cap forced on a device of its own: 4000 passes give raster_fine.cl 28 bin entries per
+    // launch, so the 6000-entry bins below take 215 launches, each merging with the last.
+    Device capped = Device::open();
+    capped.impl()->measured_loop_limit = 4000;
+    MeshData m;
+    for (int k = 0; k < 3000; ++k) {
+        float z = -50.0f + 0.01f * float(k), x0 = -20.25f + 0.003f * float(k % 7);
+        m.positions.insert(m.positions.end(), {x0, -18.5f, z, 19.75f, -18.5f, z, 19.75f, 21.5f, z, x0, 21.5f, z});
+        std::uint32_t b = std::uint32_t(4 * k);
+        m.indices.insert(m.indices.end(), {b, b + 1, b + 2, b, b + 2, b + 3});
+    }
+    Scene s;
+    s.add_mesh(m);
+    Camera c = Camera::orthographic({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 64, 0.5, 100);
+    std::vector<std::uint64_t> want = raster_keys(d, s, c, 64, 64, RasterAtomics::Auto);
+    std::set<std::uint32_t> ids;
+    for (std::uint64_t k : want) ids.insert(std::uint32_t(k));
+    CHECK(ids == std::set<std::uint32_t>{5998u, 5999u, background_id});
+    CHECK(raster_keys(capped, s, c, 64, 64, RasterAtomics::Off) == want);
+    if (capped.info().int64_atomics) CHECK(raster_keys(capped, s, c, 64, 64, RasterAtomics::On) == want);
+    // A cap the raster path cannot keep is refused by name, not drawn wrong.
+    capped.impl()->measured_loop_limit = 200;
+    try {
+        raster_keys(capped, s, c, 64, 64, RasterAtomics::Off);
+        FAIL("rendered under a loop cap the raster path cannot keep");
+    } catch (const Error& e) {
+        CHECK(std::string(e.what()).find("after 200 iterations") != std::string::npos);
+    }
 }

@@ -70,7 +70,7 @@ struct Device::Impl {
     /// after that many iterations together. Kernels whose loops run longer split their work.
     std::uint32_t loop_limit();
     static constexpr std::uint32_t loop_unlimited = 0xFFFFFFFFu;
-    std::uint32_t measured_loop_limit = 0; ///< 0 until measured
+    std::uint32_t measured_loop_limit = 0; ///< 0 until measured (tests may set it to force a cap)
 
     std::mutex mutex; ///< guards programs and the default queue's host reads
     std::map<std::string, cl::Program> programs;

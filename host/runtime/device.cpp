@@ -12,6 +12,8 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
+#include <mutex>
 #include <sstream>
 
 namespace clvis::detail {
@@ -378,9 +380,24 @@ std::uint32_t Device::Impl::loop_limit()
 {
     // More trips than any kernel's loops run in one work-item on a device that does not cap them.
     constexpr cl_uint trips = 1u << 20;
+    // Kept per device and driver for the process: every Device::open of it would measure the same
+    // (and a simulator such as Oclgrind takes seconds to run the probe).
+    static std::mutex known_mutex;
+    static std::map<std::string, std::uint32_t> known;
+    const std::string identity = info.platform + "\n" + info.name + "\n" + info.driver_version;
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (measured_loop_limit != 0) return measured_loop_limit;
+    }
+    {
+        std::lock_guard<std::mutex> lock(known_mutex);
+        if (auto it = known.find(identity); it != known.end()) {
+            std::lock_guard<std::mutex> own(mutex);
+            return measured_loop_limit = it->second;
+        }
+    }
     cl::Kernel probe(program("device_probe"), "device_probe_loops");
     std::lock_guard<std::mutex> lock(mutex);
-    if (measured_loop_limit != 0) return measured_loop_limit;
     try {
         cl_uint words[3] = {0, 0, 0};
         cl::Buffer done(context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof words, words);
@@ -392,6 +409,8 @@ std::uint32_t Device::Impl::loop_limit()
     } catch (const cl::Error& e) {
         throw_cl_error(e, "probing the loops of " + info.name);
     }
+    std::lock_guard<std::mutex> known_lock(known_mutex);
+    known[identity] = measured_loop_limit;
     return measured_loop_limit;
 }
 
