@@ -622,7 +622,7 @@ TEST_CASE("slivers, needles and zero-area triangles, no errors", "[device][agree
           3, 7, true, true, tally);
 }
 
-TEST_CASE("triangles far larger than the frustum, behind the eye, across near, no error", "[device][agree]")
+TEST_CASE("triangles far larger than the frustum, behind the eye, across near, no error", "[device][agree][rusticl]")
 {
     Device device = Device::open();
     Tally tally;

@@ -575,7 +575,7 @@ TEST_CASE("thousands of large triangles stacked in the same tiles are all drawn"
 // ---------------------------------------------------------------------------------------------
 // Device: against the double-precision reference, closed meshes, determinism.
 
-TEST_CASE("random scenes agree with a double-precision reference", "[device][raster]")
+TEST_CASE("random scenes agree with a double-precision reference", "[device][raster][rusticl]")
 {
     std::mt19937 rng(2024);
     std::size_t ambiguous = 0, pixels = 0;

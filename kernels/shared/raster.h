@@ -290,9 +290,12 @@ static inline void clvis_raster_edge(clvis_raster_vertex a, clvis_raster_vertex 
 
 /* Sets up triangle (v0, v1, v2) for a width x height image. Returns 0 when it covers no sample:
    zero doubled area after snapping, culled by `cull`, or no pixel centre in its bounding box. */
-static inline int clvis_raster_setup(clvis_raster_vertex v0, clvis_raster_vertex v1, clvis_raster_vertex v2,
+static inline int clvis_raster_setup(clvis_raster_vertex a, clvis_raster_vertex b, clvis_raster_vertex c,
                                      clvis_u32 id, int width, int height, int cull, clvis_raster_tri* t)
 {
+    /* Reordered below in copies of its own, never in its parameters: Mesa 22.3's Rusticl let
+       assignments to struct parameters reach the caller's variables (raster_setup.cl's fan). */
+    clvis_raster_vertex v0 = a, v1 = b, v2 = c;
     /* The box first: most triangles of a dense mesh hold no pixel centre and stop here. */
     clvis_i64 xmin = v0.x < v1.x ? (v0.x < v2.x ? v0.x : v2.x) : (v1.x < v2.x ? v1.x : v2.x);
     clvis_i64 xmax = v0.x > v1.x ? (v0.x > v2.x ? v0.x : v2.x) : (v1.x > v2.x ? v1.x : v2.x);
