@@ -1,8 +1,7 @@
 /* Raster path, stage 2 of 3: bins the triangles that raster_setup.cl listed into screen tiles.
    raster_bin_count counts the triangles touching each tile, raster_bin_scan turns the counts
    into bin offsets (the host sizes the bins from its total), raster_bin_fill writes each bin;
-   raster_fine.cl walks the bins. */
-#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+   raster_fine.cl walks the bins. Only 32-bit atomics: it builds on devices without 64-bit ones. */
 #include "shared/raster.h"
 
 /* Calls BODY(tile) for every tile of `tile_log2` whose pixel centres triangle t may cover. */
@@ -38,7 +37,8 @@ __kernel void raster_bin_count(__global const clvis_raster_tri* tris, uint count
 
 /* One work-group: each work-item sums a contiguous run of tiles, work-item 0 scans the sums, then
    each writes its run's offsets. offsets[tile_count] and counters[1] receive the total (64-bit:
-   the host refuses totals that 32-bit offsets cannot hold). */
+   the host refuses totals that 32-bit offsets cannot hold), counters[2] the longest bin (the host
+   splits raster_fine.cl's launches by it where a device caps loops). */
 __kernel void raster_bin_scan(__global const uint* tile_counts, uint tile_count, __global uint* offsets,
                               __global uint* cursors, __global ulong* counters, __local ulong* partial)
 {
@@ -60,11 +60,19 @@ __kernel void raster_bin_scan(__global const uint* tile_counts, uint tile_count,
         offsets[tile_count] = (uint)total;
     }
     barrier(CLK_LOCAL_MEM_FENCE);
-    ulong offset = partial[lid];
+    ulong offset = partial[lid], peak = 0;
     for (uint i = begin; i < end; ++i) {
         offsets[i] = (uint)offset;
         cursors[i] = (uint)offset;
         offset += tile_counts[i];
+        peak = max(peak, (ulong)tile_counts[i]);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE); /* every offset read before the partials are reused */
+    partial[lid] = peak;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (lid == 0) {
+        for (uint i = 1; i < size; ++i) peak = max(peak, partial[i]);
+        counters[2] = peak;
     }
 }
 

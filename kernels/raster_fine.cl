@@ -1,14 +1,16 @@
 /* Raster path, stage 3 of 3: rasterizes the binned triangles of raster_bin.cl tile by tile. A
    work-item owns a square of up to CLVIS_FINE_SUB pixels a side inside one tile, walks the tile's
-   bin, evaluates only the 8-pixel row spans each triangle's box touches (clvis_raster_span8),
-   keeps the nearest keys in private memory, then merges them with what raster_setup.cl wrote. */
+   bin (or a `chunk` of it from `first`: the host splits long bins over launches for devices that
+   cap loops), evaluates only the 8-pixel row spans each triangle's box touches
+   (clvis_raster_span8), keeps the nearest keys in private memory, then stores them: merged with
+   what is there when `merge` (the small triangles raster_setup.cl drew with atomics, or an
+   earlier chunk), or as they are, background included (tile ownership's first launch: every key
+   of the buffer written once, by its owner, with no clear and no atomics). */
 #include "shared/raster.h"
-
-#define CLVIS_FINE_SPANS (CLVIS_FINE_SUB / 8) /* 8-pixel spans per row of the square */
 
 __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const uint* entries,
                           __global const uint* offsets, int tile_log2, int tiles_x, clvis_camera_gpu cam,
-                          __global ulong* keys, clvis_region region)
+                          __global ulong* keys, clvis_region region, uint first, uint chunk, int merge)
 {
     int sub = min(1 << tile_log2, CLVIS_FINE_SUB);
     int px0 = (int)get_global_id(0) * sub, py0 = (int)get_global_id(1) * sub;
@@ -16,6 +18,8 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
     int px1 = min(px0 + sub, region.width) - 1, py1 = min(py0 + sub, region.height) - 1;
     uint tile = (uint)(py0 >> tile_log2) * (uint)tiles_x + (uint)(px0 >> tile_log2);
     uint begin = offsets[tile], end = offsets[tile + 1];
+    begin = first < end - begin ? begin + first : end;
+    end = chunk < end - begin ? begin + chunk : end;
 
     ulong8 best[CLVIS_FINE_SUB][CLVIS_FINE_SPANS];
     for (int r = 0; r < CLVIS_FINE_SUB; ++r)
@@ -46,15 +50,15 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
     for (int j = py0; j <= py1; ++j) {
         for (int s = 0; 8 * s <= px1 - px0; ++s) {
             ulong8 b = best[j - py0][s];
-            if (all(b == (ulong8)(CLVIS_BACKGROUND_KEY))) continue;
             int i0 = px0 + 8 * s, count = min(8, px1 - i0 + 1);
             __global ulong* row = keys + (size_t)j * (size_t)region.width + (size_t)i0;
+            if (merge && all(b == (ulong8)(CLVIS_BACKGROUND_KEY))) continue; /* nothing to merge */
             if (count == 8) {
-                vstore8(min(b, vload8(0, row)), 0, row);
+                vstore8(merge ? min(b, vload8(0, row)) : b, 0, row);
             } else {
                 ulong lane[8];
                 vstore8(b, 0, lane);
-                for (int l = 0; l < count; ++l) row[l] = min(row[l], lane[l]);
+                for (int l = 0; l < count; ++l) row[l] = merge ? min(row[l], lane[l]) : lane[l];
             }
         }
     }

@@ -1,9 +1,13 @@
 /* Raster path, stage 1 of 3: raster_setup_vertices projects every vertex once; raster_setup then
    takes every triangle (one work-item each), clips those that need it, rasterizes the ones that
-   touch few pixel centres at once into the visibility buffer, and lists the others for
-   raster_bin.cl (binning) and raster_fine.cl (tile rasterization). */
+   touch few pixel centres at once into the visibility buffer (64-bit atomic min), and lists the
+   others for raster_bin.cl (binning) and raster_fine.cl (tile rasterization). Built with
+   CLVIS_RASTER_OWNED (tile ownership, RasterAtomics::Off) it draws nothing and lists every
+   triangle, and needs no 64-bit atomics. */
+#ifndef CLVIS_RASTER_OWNED
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
+#endif
 #include "shared/raster.h"
 
 /* Triangles whose pixel bounding box holds at most CLVIS_RASTER_SCALAR pixel centres are
@@ -23,8 +27,8 @@ typedef struct {
     volatile __global ulong* keys;
     __global clvis_raster_tri* tris;
     uint capacity;
-    volatile __global ulong* counters;
-    clvis_region region; /* keys hold this region of the image (shared/region.h) */
+    volatile __global uint* listed; /* 2 words: triangles listed, low and high 32 bits */
+    clvis_region region;            /* keys hold this region of the image (shared/region.h) */
 } raster_setup_out;
 
 static clvis_clip_vertex load_camera_vertex(clvis_camera_gpu cam, __global const float* positions, uint v)
@@ -35,12 +39,22 @@ static clvis_clip_vertex load_camera_vertex(clvis_camera_gpu cam, __global const
     return p;
 }
 
-/* Rasterizes a small triangle on the spot, or lists it for binning. */
+/* Lists t for binning. The count is 64 bits kept in two 32-bit words (core atomics): a total
+   past the capacity makes the host grow the list and run setup again. */
+static void list_triangle(const clvis_raster_tri* t, raster_setup_out out)
+{
+    uint slot = atomic_inc(&out.listed[0]);
+    if (slot == 0xFFFFFFFFu) atomic_inc(&out.listed[1]);
+    if (slot < out.capacity) out.tris[slot] = *t;
+}
+
+/* Rasterizes a small triangle on the spot (atomic mode), or lists it for binning. */
 static void emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_raster_vertex c, uint id,
                           raster_setup_out out)
 {
     clvis_raster_tri t;
     if (!clvis_raster_setup_region(a, b, c, id, out.region, out.cull, &t)) return;
+#ifndef CLVIS_RASTER_OWNED
     if ((t.x1 - t.x0 + 1) * (t.y1 - t.y0 + 1) <= CLVIS_RASTER_SCALAR) {
         for (int j = t.y0; j <= t.y1; ++j) {
             for (int i = t.x0; i <= t.x1; ++i) {
@@ -66,8 +80,8 @@ static void emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_ra
         }
         return;
     }
-    ulong slot = atom_inc(&out.counters[0]);
-    if (slot < out.capacity) out.tris[slot] = t;
+#endif
+    list_triangle(&t, out);
 }
 
 /* Clips the triangle against near and the guard band and fans the polygon into triangles. */
@@ -130,7 +144,7 @@ static clvis_raster_vertex widen(clvis_raster_projected p)
 __kernel void raster_setup(clvis_camera_gpu cam, __global const float* positions, __global const uint* indices,
                            uint triangle_count, __global const clvis_raster_projected* projected, int cull,
                            volatile __global ulong* keys, __global clvis_raster_tri* tris, uint capacity,
-                           volatile __global ulong* counters, clvis_region region)
+                           volatile __global uint* listed, clvis_region region)
 {
     uint id = (uint)get_global_id(0);
     if (id >= triangle_count) return;
@@ -138,7 +152,7 @@ __kernel void raster_setup(clvis_camera_gpu cam, __global const float* positions
     uint a = indices[i], b = indices[i + 1], c = indices[i + 2];
     clvis_raster_projected pa = projected[a], pb = projected[b], pc = projected[c];
     if (pa.code & pb.code & pc.code & CLVIS_OUT_VIEW) return;
-    raster_setup_out out = {cam, cull, keys, tris, capacity, counters, region};
+    raster_setup_out out = {cam, cull, keys, tris, capacity, listed, region};
     if ((pa.code | pb.code | pc.code) & CLVIS_OUT_CLIP) {
         clip_and_emit(load_camera_vertex(cam, positions, a), load_camera_vertex(cam, positions, b),
                       load_camera_vertex(cam, positions, c), id, clvis_guard_of(cam), out);

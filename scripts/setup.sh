@@ -8,6 +8,8 @@ packages=(
   build-essential cmake ninja-build pkg-config git ca-certificates python3 ccache
   # OpenCL: the ICD loader, headers, C++ bindings and PoCL's CPU device
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
+  # a second OpenCL implementation for the rusticl CTest: Mesa's Rusticl (RUSTICL_ENABLE=llvmpipe)
+  mesa-opencl-icd
   # libraries
   libopenimageio-dev openimageio-tools catch2 libcli11-dev nlohmann-json3-dev
   # glTF 2.0 files

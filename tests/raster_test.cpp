@@ -2,7 +2,9 @@
 // the device against hand-made cases with known answers (shared edges and vertices on pixel
 // centres, near, far, behind, huge, degenerate, coincident, orthographic, culling, crowded
 // tiles), a plain double-precision ray-cast reference on small random scenes, closed meshes
-// from outside and inside, and determinism across runs and tile sizes.
+// from outside and inside, and determinism across runs and tile sizes. Every frame drawn through
+// render() is drawn twice, with the atomic depth test and with tile ownership, and the two must
+// give the same keys bit for bit.
 #include "catch.hpp"
 #include "test_meshes.hpp"
 
@@ -55,17 +57,26 @@ MeshData mesh_of(const std::vector<float>& positions, const std::vector<std::uin
     return m;
 }
 
-HostVisibility render(const Scene& scene, const Camera& camera, int w, int h, RenderOptions options = {})
-{
-    Renderer r(device(), scene, options);
-    return r.render(camera, w, h, Path::Raster).read();
-}
-
+/// The raster path's keys with `options`; where the device has 64-bit atomics, also checks that
+/// the atomic depth test and tile ownership (RasterAtomics::On and Off) give them bit for bit.
 std::vector<std::uint64_t> render_keys(const Scene& scene, const Camera& camera, int w, int h,
                                        RenderOptions options = {})
 {
     Renderer r(device(), scene, options);
-    return r.render(camera, w, h, Path::Raster).read_keys();
+    std::vector<std::uint64_t> keys = r.render(camera, w, h, Path::Raster).read_keys();
+    if (device().info().int64_atomics) {
+        options.raster_atomics = options.raster_atomics == RasterAtomics::Off ? RasterAtomics::On : RasterAtomics::Off;
+        Renderer other(device(), scene, options);
+        INFO("raster atomics " << to_string(options.raster_atomics) << " against the default, " << w << "x" << h);
+        CHECK(other.render(camera, w, h, Path::Raster).read_keys() == keys);
+    }
+    return keys;
+}
+
+HostVisibility render(const Scene& scene, const Camera& camera, int w, int h, RenderOptions options = {})
+{
+    std::vector<std::uint64_t> keys = render_keys(scene, camera, w, h, options);
+    return split_keys(keys.data(), w, h);
 }
 
 /// Orthographic camera looking down -z whose world x, y map to raster x - w/2, h/2 - y: with
@@ -359,7 +370,7 @@ TEST_CASE("a clip cut does not depend on the direction the edge is walked", "[ra
 // ---------------------------------------------------------------------------------------------
 // Device: hand-made cases.
 
-TEST_CASE("one triangle covers the pixel centres inside it at their exact depth", "[device][raster]")
+TEST_CASE("one triangle covers the pixel centres inside it at their exact depth", "[device][raster][rusticl]")
 {
     const int w = 64, h = 64;
     std::vector<float> p;
@@ -371,7 +382,7 @@ TEST_CASE("one triangle covers the pixel centres inside it at their exact depth"
     check_against_reference(s, persp, w, h, "perspective", 4);
 }
 
-TEST_CASE("a pixel centre on an edge shared by two triangles belongs to exactly one", "[device][raster]")
+TEST_CASE("a pixel centre on an edge shared by two triangles belongs to exactly one", "[device][raster][rusticl]")
 {
     const int w = 64, h = 64;
     Camera cam = pixel_camera(w, h);
@@ -392,7 +403,7 @@ TEST_CASE("a pixel centre on an edge shared by two triangles belongs to exactly 
     }
 }
 
-TEST_CASE("a fan around a vertex on a pixel centre covers each centre exactly once", "[device][raster]")
+TEST_CASE("a fan around a vertex on a pixel centre covers each centre exactly once", "[device][raster][rusticl]")
 {
     const int w = 64, h = 64;
     Camera cam = pixel_camera(w, h);
@@ -416,7 +427,7 @@ TEST_CASE("a fan around a vertex on a pixel centre covers each centre exactly on
     }
 }
 
-TEST_CASE("a tilted grid under perspective covers each pixel once and leaves no crack", "[device][raster]")
+TEST_CASE("a tilted grid under perspective covers each pixel once and leaves no crack", "[device][raster][rusticl]")
 {
     const int w = 64, h = 48;
     MeshData grid;
@@ -439,14 +450,14 @@ TEST_CASE("a tilted grid under perspective covers each pixel once and leaves no 
     check_against_reference(scene_of(grid), cam, w, h, "grid", 20);
 }
 
-TEST_CASE("a triangle behind the camera draws nothing", "[device][raster]")
+TEST_CASE("a triangle behind the camera draws nothing", "[device][raster][rusticl]")
 {
     Scene s = scene_of(mesh_of({-1, -1, 2, 1, -1, 2, 0, 1, 2}, {0, 1, 2}));
     auto v = render(s, look({0, 0, 0}, {0, 0, -1}, 60, 0.1, 100), 32, 32);
     for (auto id : v.ids) CHECK(id == background_id);
 }
 
-TEST_CASE("a triangle crossing the near plane is cut, never dropped or wrapped", "[device][raster]")
+TEST_CASE("a triangle crossing the near plane is cut, never dropped or wrapped", "[device][raster][rusticl]")
 {
     const int w = 64, h = 48;
     // One vertex behind the eye, one between the eye and near, one in front.
@@ -463,7 +474,7 @@ TEST_CASE("a triangle crossing the near plane is cut, never dropped or wrapped",
     check_against_reference(s2, ortho, w, h, "orthographic", 6);
 }
 
-TEST_CASE("a triangle larger than the screen covers every pixel at its exact depth", "[device][raster]")
+TEST_CASE("a triangle larger than the screen covers every pixel at its exact depth", "[device][raster][rusticl]")
 {
     const int w = 80, h = 60;
     Camera cam = look({0, 0, 0}, {0, 0, -1}, 60, 0.1, 100);
@@ -483,7 +494,7 @@ TEST_CASE("a triangle larger than the screen covers every pixel at its exact dep
     check_against_reference(close, cam, w, h, "close", 8);
 }
 
-TEST_CASE("triangles beyond far draw nothing and those crossing far stop at it", "[device][raster]")
+TEST_CASE("triangles beyond far draw nothing and those crossing far stop at it", "[device][raster][rusticl]")
 {
     const int w = 64, h = 48;
     Camera cam = look({0, 0, 0}, {0, 0, -1}, 60, 0.1, 10);
@@ -497,7 +508,7 @@ TEST_CASE("triangles beyond far draw nothing and those crossing far stop at it",
     check_against_reference(crossing, ortho, w, h, "crossing far, orthographic", 16);
 }
 
-TEST_CASE("degenerate triangles cover nothing and keep the ids of the others", "[device][raster]")
+TEST_CASE("degenerate triangles cover nothing and keep the ids of the others", "[device][raster][rusticl]")
 {
     const int w = 32, h = 32;
     std::vector<float> p = {-5, -5, -3, 5, 5, -3, 15, 15, -3, /* collinear */
@@ -508,7 +519,7 @@ TEST_CASE("degenerate triangles cover nothing and keep the ids of the others", "
     CHECK(ids == std::set<std::uint32_t>{3u, background_id});
 }
 
-TEST_CASE("coincident triangles, the lower id wins whatever the winding", "[device][raster]")
+TEST_CASE("coincident triangles, the lower id wins whatever the winding", "[device][raster][rusticl]")
 {
     const int w = 48, h = 48;
     std::vector<float> p = {-20.3f, -15.1f, -4, 18.2f, -9.7f, -4, 2.6f, 19.9f, -4};
@@ -520,7 +531,7 @@ TEST_CASE("coincident triangles, the lower id wins whatever the winding", "[devi
     }
 }
 
-TEST_CASE("culling drops back or front faces; front faces are counter-clockwise on screen", "[device][raster]")
+TEST_CASE("culling drops back or front faces; front faces are counter-clockwise on screen", "[device][raster][rusticl]")
 {
     const int w = 64, h = 32;
     // Seen from +z, triangle 0 runs counter-clockwise on screen, triangle 1 clockwise.
@@ -539,7 +550,7 @@ TEST_CASE("culling drops back or front faces; front faces are counter-clockwise 
     }
 }
 
-TEST_CASE("thousands of large triangles stacked in the same tiles are all drawn", "[device][raster]")
+TEST_CASE("thousands of large triangles stacked in the same tiles are all drawn", "[device][raster][rusticl]")
 {
     // Each square is nearer than the one before: only the last two triangles may show, which
     // requires every triangle to be listed and binned (the buffers grow past their first size).
@@ -564,7 +575,7 @@ TEST_CASE("thousands of large triangles stacked in the same tiles are all drawn"
 // ---------------------------------------------------------------------------------------------
 // Device: against the double-precision reference, closed meshes, determinism.
 
-TEST_CASE("random scenes agree with a double-precision reference", "[device][raster]")
+TEST_CASE("random scenes agree with a double-precision reference", "[device][raster][rusticl]")
 {
     std::mt19937 rng(2024);
     std::size_t ambiguous = 0, pixels = 0;
@@ -645,7 +656,7 @@ void check_closed_mesh(const Scene& s, double radius, Vec3 centre, int cameras, 
 
 } // namespace
 
-TEST_CASE("a closed sphere shows no crack from outside and covers every pixel from inside", "[device][raster]")
+TEST_CASE("a closed sphere shows no crack from outside and covers every pixel from inside", "[device][raster][rusticl]")
 {
     Scene s = scene_of(make_uv_sphere(2000));
     check_closed_mesh(s, 1.0, {0, 0, 0}, 12, 99);
@@ -670,7 +681,7 @@ TEST_CASE("spot shows no crack from random cameras", "[device][raster]")
     check_closed_mesh(s, length(b.extent()) / 2, b.center(), 8, 5);
 }
 
-TEST_CASE("the same frame gives bit-identical keys across runs and tile sizes", "[device][raster]")
+TEST_CASE("the same frame gives bit-identical keys across runs and tile sizes", "[device][raster][rusticl]")
 {
     std::mt19937 rng(8);
     MeshData m = random_triangles(rng, 3000, 1.0, 0.3);
@@ -689,7 +700,7 @@ TEST_CASE("the same frame gives bit-identical keys across runs and tile sizes", 
     }
 }
 
-TEST_CASE("the referee accepts every pixel of real meshes from framing and random cameras", "[device][raster]")
+TEST_CASE("the referee accepts every pixel of real meshes from framing and random cameras", "[device][raster][rusticl]")
 {
     std::mt19937 rng(31);
     std::normal_distribution<double> g;

@@ -158,21 +158,3 @@ TEST_CASE("a renderer reused for a thousand frames with changing cameras does no
     INFO("resident set " << before << " KiB before, " << after << " KiB after 1000 frames");
     CHECK(after - before < 8 * 1024);
 }
-
-TEST_CASE("a device without 64-bit atomics is refused by the raster path, clearly",
-          "[device][renderer]")
-{
-    // A device of its own whose reported extensions lack the atomics; the ray path still works.
-    Device d = Device::open();
-    d.impl()->info.int64_atomics = false;
-    Scene s = quad_scene();
-    Renderer r(d, s);
-    try {
-        r.render(front(), 8, 8, Path::Raster);
-        FAIL("rasterized without 64-bit atomics");
-    } catch (const Error& e) {
-        CHECK(e.kind() == Error::Kind::Device);
-        CHECK(std::string(e.what()).find("64-bit atomics") != std::string::npos);
-    }
-    CHECK(covered(r.render(front(), 8, 8, Path::Ray).read()) > 0);
-}

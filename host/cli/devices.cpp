@@ -24,7 +24,8 @@ void add_devices_command(CLI::App& app)
                         d.global_memory / 1048576.0, d.max_allocation / 1048576.0, d.local_memory / 1024.0);
             std::printf("    version         %s; driver %s; %s\n", d.version.c_str(), d.driver_version.c_str(),
                         d.opencl_c_version.c_str());
-            std::printf("    64-bit atomics  %s\n", d.int64_atomics ? "yes (the raster path can run)" : "no");
+            std::printf("    64-bit atomics  %s\n", d.int64_atomics ? "yes (the raster path's atomic depth test)"
+                                                             : "no (the raster path uses tile ownership)");
             std::printf("    fp64            %s\n", d.fp64 ? "yes" : "no");
         }
         std::printf("* the device clvis picks by default%s\n",

@@ -28,7 +28,7 @@ struct RenderArgs {
     CameraOptions camera;
     DeviceOptions device;
     std::string path = "raster";
-    std::string ids, depth, image, shade = "lambert", cull = "none";
+    std::string ids, depth, image, shade = "lambert", cull = "none", raster_atomics = "auto";
     std::string bary, normals, position; ///< attributes resolved from the buffer (EXR)
     std::string visible;                 ///< the visible set: ids, one per line, ascending
     std::string views;                   ///< a views file: many cameras, one batch
@@ -347,6 +347,8 @@ nlohmann::json render_json(const RenderArgs& a, const SceneFile& file,
     j["width"] = a.width;
     j["height"] = a.height;
     j["device"] = device.info().name;
+    // The raster path's depth test as Auto resolves it (RasterPipeline: atomics where offered).
+    j["raster_atomics"] = a.raster_atomics != "auto" ? a.raster_atomics : device.info().int64_atomics ? "on" : "off";
     j["load_ms"] = load_ms;
     j["warm_up"] = a.repeat > 0 || a.timings;
     j["camera"] = camera.to_flags();
@@ -364,6 +366,7 @@ RenderOptions render_options(const RenderArgs& a)
     RenderOptions options;
     options.tile_size = a.tile;
     options.cull = a.cull == "back" ? Cull::Back : a.cull == "front" ? Cull::Front : Cull::None;
+    options.raster_atomics = raster_atomics_from_string(a.raster_atomics);
     options.bvh.max_leaf_size = a.leaf;
     return options;
 }
@@ -464,6 +467,10 @@ void add_render_command(CLI::App& app)
     cmd->add_option("--tile", args->tile, "raster tile size in pixels (power of two; 0: default)");
     cmd->add_option("--cull", args->cull, "face culling: none, back or front")
         ->check(CLI::IsMember({"none", "back", "front"}));
+    cmd->add_option("--raster-atomics", args->raster_atomics,
+                    "raster depth test: on (64-bit atomics), off (tile ownership, no atomics) or auto (on where "
+                    "the device has 64-bit atomics); the same keys either way")
+        ->check(CLI::IsMember({"auto", "on", "off"}));
     cmd->add_option("--leaf-size", args->leaf, "BVH: triangles per leaf at most");
     args->spread.add_to(*cmd);
     cmd->add_flag("--json", args->json, "print one JSON object with the timings on standard output");

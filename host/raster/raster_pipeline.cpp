@@ -1,7 +1,11 @@
 // The raster path: raster_setup.cl projects and clips every triangle, rasterizes the small ones
-// at once and lists the others; raster_bin.cl bins those into tiles (count, scan, fill);
-// raster_fine.cl rasterizes each tile's bin. The host plans every capacity from counts read back
-// during the frame and grows buffers (re-running the stage that overflowed) rather than drop.
+// at once (64-bit atomic min) and lists the others; raster_bin.cl bins those into tiles (count,
+// scan, fill); raster_fine.cl rasterizes each tile's bin. Under tile ownership (RasterAtomics::Off,
+// or Auto on a device without 64-bit atomics) setup lists every triangle and raster_fine.cl writes
+// every key once, with no clear and no atomics on the keys. On a device that caps the loop
+// iterations of a work-item (Device::Impl::loop_limit), raster_fine.cl walks long bins in several
+// launches. The host plans every capacity from counts read back during the frame and grows
+// buffers (re-running the stage that overflowed) rather than drop.
 #include "render/pipeline.hpp"
 
 #include "runtime/cl_runtime.hpp"
@@ -57,15 +61,20 @@ struct RasterPipeline::Impl {
     Device::Impl& device;
     int tile_log2 = default_tile_log2;
     int cull = CLVIS_CULL_NONE;
+    bool owned = false; ///< tile ownership: raster_setup.cl built with CLVIS_RASTER_OWNED
+    std::uint32_t loop_limit = Device::Impl::loop_unlimited; ///< the device's, measured
+    std::uint32_t fine_chunk = 0xFFFFFFFFu; ///< bin entries per launch of raster_fine.cl
     cl::Kernel clear, zero, vertices, setup, bin_count, bin_scan, bin_fill, fine;
     std::size_t zero_group = 1, vertex_group = 1, setup_group = 1, bin_group = 1, scan_items = 1;
     cl::NDRange fine_group;
-    cl::Buffer counters; ///< ulong[2]: triangles listed by setup, bin entries
+    cl::Buffer counters; ///< uint[2] triangles listed by setup (low, high word), ulong bin entries, ulong longest bin
     cl::Buffer projected, tris, entries, tile_counts, offsets, cursors;
     std::size_t projected_capacity = 0, tri_capacity = 0, entry_capacity = 0, tile_capacity = 0;
 
     Impl(Device::Impl& d, const RenderOptions& o) : device(d), cull(cull_mode(o.cull))
     {
+        owned = o.raster_atomics == RasterAtomics::Off ||
+                (o.raster_atomics == RasterAtomics::Auto && !device.info.int64_atomics);
         if (o.tile_size != 0) {
             tile_log2 = 0;
             while ((1 << tile_log2) < o.tile_size) ++tile_log2;
@@ -94,6 +103,20 @@ struct RasterPipeline::Impl {
         std::size_t gx = std::min({fine_group_edge, max_group, floor_pow2(item_sizes.at(0))});
         std::size_t gy = std::min({fine_group_edge, max_group / gx, floor_pow2(item_sizes.at(1))});
         fine_group = cl::NDRange(gx, gy);
+    }
+
+    /// Bin entries per launch of raster_fine.cl that keep its loops within half the device's
+    /// limit (half: a compiler may add passes that the source does not show). On Mesa 22.3's
+    /// llvmpipe (65535) that is 494 entries; 800 still drew right there, 1000 did not.
+    void plan_fine_chunks()
+    {
+        loop_limit = device.loop_limit();
+        if (loop_limit == Device::Impl::loop_unlimited) return;
+        std::uint32_t budget = loop_limit / 2;
+        if (budget < CLVIS_FINE_TRIPS_FIXED + CLVIS_FINE_TRIPS_PER_ENTRY)
+            throw Error(Error::Kind::Device, device.info.name + " ends loops after " + std::to_string(loop_limit) +
+                                                 " iterations per work-item, too few for the raster path");
+        fine_chunk = (budget - CLVIS_FINE_TRIPS_FIXED) / CLVIS_FINE_TRIPS_PER_ENTRY;
     }
 
     /// A zeroed device buffer. Made from host zeros rather than left undefined: Oclgrind 21.10 reported
@@ -127,11 +150,28 @@ struct RasterPipeline::Impl {
         frame.stages->add(stage, done);
     }
 
-    cl_ulong read_counter(Frame& frame, int index)
+    /// The triangles setup listed (two 32-bit words).
+    cl_ulong read_listed(Frame& frame)
     {
-        cl_ulong value = 0;
-        frame.queue.enqueueReadBuffer(counters, CL_TRUE, sizeof(cl_ulong) * index, sizeof value, &value);
-        return value;
+        cl_uint words[2] = {0, 0};
+        frame.queue.enqueueReadBuffer(counters, CL_TRUE, 0, sizeof words, words);
+        return cl_ulong(words[0]) | cl_ulong(words[1]) << 32;
+    }
+
+    /// Refuses a frame whose binning or scan loops would run past the device's loop limit.
+    void check_loops(std::size_t tiles_x, std::size_t tiles_y) const
+    {
+        if (loop_limit == Device::Impl::loop_unlimited) return;
+        std::size_t run = (tiles_x * tiles_y + scan_items - 1) / scan_items;
+        // Passes through loop headers as plan_fine_chunks counts them, within half the limit.
+        std::uint64_t bin_trips = std::uint64_t(tiles_y + 1) * (tiles_x + 2) + 64; // a triangle over every tile
+        std::uint64_t scan_trips = 3 * (std::uint64_t(run) + 1) + 2 * (scan_items + 1) + 64;
+        if (2 * std::max(bin_trips, scan_trips) > loop_limit)
+            throw Error(Error::Kind::Limit,
+                        device.info.name + " ends loops after " + std::to_string(loop_limit) +
+                            " iterations per work-item, fewer than the raster path's binning of " +
+                            std::to_string(tiles_x) + "x" + std::to_string(tiles_y) +
+                            " tiles needs; use a larger tile size or a smaller image");
     }
 
     /// Runs setup and returns how many triangles it listed for binning (all of them stored).
@@ -163,9 +203,9 @@ struct RasterPipeline::Impl {
                                              cl::NDRange(round_up(scene.triangle_count, setup_group)),
                                              cl::NDRange(setup_group), nullptr, &done);
             frame.stages->add("setup", done);
-            cl_ulong listed = read_counter(frame, 0);
+            cl_ulong listed = read_listed(frame);
             if (listed <= tri_capacity) return std::size_t(listed);
-            // Small triangles already written are harmless to write again (atomic min).
+            // Small triangles already written (atomic mode) are harmless to write again (atomic min).
             reserve(tris, tri_capacity, std::size_t(listed), sizeof(clvis_raster_tri), first_tri_capacity,
                     "list of triangles to bin");
         }
@@ -195,14 +235,20 @@ struct RasterPipeline::Impl {
             cursors = make_buffer((tiles + 1) * sizeof(cl_uint));
             tile_capacity = tiles + 1;
         }
-        clear_keys(clear, frame);
+        // Tile ownership writes every key in raster_fine.cl: the clear is needed only when
+        // nothing is listed (and raster_fine.cl does not run).
+        if (!owned) clear_keys(clear, frame);
         std::size_t listed = run_setup(scene, frame);
-        if (listed == 0) return;
+        if (listed == 0) {
+            if (owned) clear_keys(clear, frame);
+            return;
+        }
 
         int tile = 1 << tile_log2;
         int tiles_x = (frame.width + tile - 1) / tile, tiles_y = (frame.height + tile - 1) / tile;
         std::size_t tile_count = std::size_t(tiles_x) * std::size_t(tiles_y);
-        cl::Event counted, scanned, filled, drawn;
+        check_loops(std::size_t(tiles_x), std::size_t(tiles_y));
+        cl::Event counted, scanned, filled;
         zero_words(frame, tile_counts, tile_count, "bin");
         cl::NDRange bin_global(round_up(listed, bin_group)), bin_local(bin_group);
         bin_count.setArg(0, tris);
@@ -221,7 +267,9 @@ struct RasterPipeline::Impl {
         frame.queue.enqueueNDRangeKernel(bin_scan, cl::NullRange, cl::NDRange(scan_items), cl::NDRange(scan_items),
                                          nullptr, &scanned);
         frame.stages->add("bin", scanned);
-        cl_ulong total = read_counter(frame, 1);
+        cl_ulong bins[2] = {0, 0}; // entries in all, the longest bin
+        frame.queue.enqueueReadBuffer(counters, CL_TRUE, sizeof(cl_ulong), sizeof bins, bins);
+        cl_ulong total = bins[0];
         if (total > 0xFFFFFFFFull)
             throw Error(Error::Kind::Limit, "the raster path's bins would hold " + std::to_string(total) +
                                                 " entries, more than 32-bit offsets address");
@@ -236,6 +284,13 @@ struct RasterPipeline::Impl {
         frame.queue.enqueueNDRangeKernel(bin_fill, cl::NullRange, bin_global, bin_local, nullptr, &filled);
         frame.stages->add("bin", filled);
 
+        run_fine(frame, tiles_x, bins[1]);
+    }
+
+    /// raster_fine.cl over every square, in as many launches as the longest bin needs on a device
+    /// that caps loops (one elsewhere); each launch after the first merges with the keys.
+    void run_fine(Frame& frame, int tiles_x, cl_ulong longest)
+    {
         fine.setArg(0, tris);
         fine.setArg(1, entries);
         fine.setArg(2, offsets);
@@ -244,26 +299,34 @@ struct RasterPipeline::Impl {
         fine.setArg(5, sizeof frame.gpu_camera, &frame.gpu_camera);
         fine.setArg(6, frame.keys);
         fine.setArg(7, sizeof frame.region, &frame.region);
+        fine.setArg(9, cl_uint(fine_chunk));
         std::size_t squares_x = (std::size_t(frame.width) + fine_square() - 1) / fine_square();
         std::size_t squares_y = (std::size_t(frame.height) + fine_square() - 1) / fine_square();
         cl::NDRange fine_global(round_up(squares_x, fine_group[0]), round_up(squares_y, fine_group[1]));
-        frame.queue.enqueueNDRangeKernel(fine, cl::NullRange, fine_global, fine_group, nullptr, &drawn);
-        frame.stages->add("raster", drawn);
+        cl_ulong first = 0;
+        do {
+            cl::Event drawn;
+            fine.setArg(8, cl_uint(first));
+            fine.setArg(10, cl_int(!owned || first > 0)); // merge: setup drew (atomics), or an earlier chunk did
+            frame.queue.enqueueNDRangeKernel(fine, cl::NullRange, fine_global, fine_group, nullptr, &drawn);
+            frame.stages->add("raster", drawn);
+            first += fine_chunk;
+        } while (first < longest);
     }
 };
 
 RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& options)
     : impl_(std::make_unique<Impl>(device, options))
 {
-    if (!device.info.int64_atomics)
+    if (options.raster_atomics == RasterAtomics::On && !device.info.int64_atomics)
         throw Error(Error::Kind::Device,
-                    "the raster path needs 64-bit atomics (cl_khr_int64_base_atomics and "
-                    "cl_khr_int64_extended_atomics) for its depth test, which " +
-                        device.info.name + " does not offer; use the ray path on this device");
+                    "the raster path's atomic depth test (raster atomics 'on') needs 64-bit atomics "
+                    "(cl_khr_int64_base_atomics and cl_khr_int64_extended_atomics), which " +
+                        device.info.name + " does not offer; use raster atomics 'auto' or 'off' (tile ownership)");
     Impl& m = *impl_;
     try {
         m.clear = make_clear_kernel(device);
-        cl::Program setup = device.program("raster_setup");
+        cl::Program setup = device.program("raster_setup", m.owned ? "-DCLVIS_RASTER_OWNED" : "");
         m.vertices = cl::Kernel(setup, "raster_setup_vertices");
         m.setup = cl::Kernel(setup, "raster_setup");
         cl::Program bin = device.program("raster_bin");
@@ -273,7 +336,8 @@ RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& option
         m.bin_fill = cl::Kernel(bin, "raster_bin_fill");
         m.fine = cl::Kernel(device.program("raster_fine"), "raster_fine");
         m.pick_groups();
-        m.counters = m.make_buffer(2 * sizeof(cl_ulong));
+        m.plan_fine_chunks();
+        m.counters = m.make_buffer(3 * sizeof(cl_ulong));
         m.reserve(m.tris, m.tri_capacity, first_tri_capacity, sizeof(clvis_raster_tri), first_tri_capacity,
                   "list of triangles to bin");
     } catch (const cl::Error& e) {

@@ -1,4 +1,4 @@
-// Names of the paths, for flags, messages and reports.
+// Names of the paths and of the raster path's depth-test modes, for flags, messages and reports.
 #include <clvis/error.hpp>
 #include <clvis/render_options.hpp>
 
@@ -19,6 +19,23 @@ Path path_from_string(const std::string& name)
     for (Path p : {Path::Raster, Path::Ray, Path::Brute})
         if (name == to_string(p)) return p;
     throw Error(Error::Kind::InvalidArgument, "unknown path '" + name + "' (raster, ray or brute)");
+}
+
+const char* to_string(RasterAtomics mode) noexcept
+{
+    switch (mode) {
+    case RasterAtomics::Auto: return "auto";
+    case RasterAtomics::On: return "on";
+    case RasterAtomics::Off: return "off";
+    }
+    return "unknown";
+}
+
+RasterAtomics raster_atomics_from_string(const std::string& name)
+{
+    for (RasterAtomics m : {RasterAtomics::Auto, RasterAtomics::On, RasterAtomics::Off})
+        if (name == to_string(m)) return m;
+    throw Error(Error::Kind::InvalidArgument, "unknown raster atomics mode '" + name + "' (auto, on or off)");
 }
 
 } // namespace clvis

@@ -65,6 +65,13 @@ struct Device::Impl {
     /// Throws Error(Limit) naming `what` when `bytes` exceeds the largest allocation.
     void check_allocation(std::uint64_t bytes, const std::string& what) const;
 
+    /// The loop iterations one work-item may run in all (kernels/device_probe.cl, measured once
+    /// and kept): loop_unlimited, or the cap of a driver that ends the loops of an invocation
+    /// after that many iterations together. Kernels whose loops run longer split their work.
+    std::uint32_t loop_limit();
+    static constexpr std::uint32_t loop_unlimited = 0xFFFFFFFFu;
+    std::uint32_t measured_loop_limit = 0; ///< 0 until measured (tests may set it to force a cap)
+
     std::mutex mutex; ///< guards programs and the default queue's host reads
     std::map<std::string, cl::Program> programs;
 };

@@ -12,6 +12,8 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
+#include <mutex>
 #include <sstream>
 
 namespace clvis::detail {
@@ -372,6 +374,44 @@ void Device::Impl::check_allocation(std::uint64_t bytes, const std::string& what
         throw Error(Error::Kind::Limit,
                     what + " needs " + std::to_string(bytes) + " bytes, more than the largest buffer " +
                         info.name + " can allocate (" + std::to_string(info.max_allocation) + " bytes)");
+}
+
+std::uint32_t Device::Impl::loop_limit()
+{
+    // More trips than any kernel's loops run in one work-item on a device that does not cap them.
+    constexpr cl_uint trips = 1u << 20;
+    // Kept per device and driver for the process: every Device::open of it would measure the same
+    // (and a simulator such as Oclgrind takes seconds to run the probe).
+    static std::mutex known_mutex;
+    static std::map<std::string, std::uint32_t> known;
+    const std::string identity = info.platform + "\n" + info.name + "\n" + info.driver_version;
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (measured_loop_limit != 0) return measured_loop_limit;
+    }
+    {
+        std::lock_guard<std::mutex> lock(known_mutex);
+        if (auto it = known.find(identity); it != known.end()) {
+            std::lock_guard<std::mutex> own(mutex);
+            return measured_loop_limit = it->second;
+        }
+    }
+    cl::Kernel probe(program("device_probe"), "device_probe_loops");
+    std::lock_guard<std::mutex> lock(mutex);
+    try {
+        cl_uint words[3] = {0, 0, 0};
+        cl::Buffer done(context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof words, words);
+        probe.setArg(0, trips);
+        probe.setArg(1, done);
+        queue.enqueueNDRangeKernel(probe, cl::NullRange, cl::NDRange(1), cl::NDRange(1));
+        queue.enqueueReadBuffer(done, CL_TRUE, 0, sizeof words, words);
+        measured_loop_limit = words[0] >= trips ? loop_unlimited : std::max<cl_uint>(words[0], 1);
+    } catch (const cl::Error& e) {
+        throw_cl_error(e, "probing the loops of " + info.name);
+    }
+    std::lock_guard<std::mutex> known_lock(known_mutex);
+    known[identity] = measured_loop_limit;
+    return measured_loop_limit;
 }
 
 std::string Device::Impl::build_options(const std::string& extra) const

@@ -2,7 +2,7 @@
 // Plain types without OpenCL, shared by the Renderer, the paths behind it, the referee and the
 // tools. Every RenderOptions field means the same on every path (Path::Raster, Path::Ray,
 // Path::Brute): `cull` changes the answer, and every path and the referee apply it alike;
-// `tile_size` and `bvh` only tune one path's speed and never change an answer.
+// `tile_size`, `raster_atomics` and `bvh` only tune one path's speed and never change an answer.
 #pragma once
 
 #include <cstddef>
@@ -12,7 +12,7 @@
 namespace clvis {
 
 enum class Path {
-    Raster, ///< project, clip, bin into tiles, rasterize with 64-bit atomic depth tests
+    Raster, ///< project, clip, bin into tiles, rasterize (64-bit atomic depth tests or tile ownership)
     Ray,    ///< one ray per pixel centre through a BVH
     Brute,  ///< one ray per pixel centre against every triangle (small scenes)
 };
@@ -52,12 +52,26 @@ struct Region {
     bool whole() const { return width == 0 && height == 0; }
 };
 
+/// How the raster path keeps the nearest key of a pixel. Both give the same keys, bit for bit.
+enum class RasterAtomics {
+    Auto, ///< 64-bit atomics where the device offers cl_khr_int64_base/extended_atomics, else Off
+    On,   ///< small triangles drawn at setup with 64-bit atomic min, the others binned and merged;
+          ///< refused (Error(Device)) on a device without 64-bit atomics
+    Off,  ///< tile ownership: every triangle binned, each pixel's nearest key kept in the private
+          ///< memory of the one work-item that owns it and written once; no atomics on the keys
+};
+
+const char* to_string(RasterAtomics mode) noexcept;
+/// "auto", "on" or "off"; throws Error(InvalidArgument) otherwise.
+RasterAtomics raster_atomics_from_string(const std::string& name);
+
 struct RenderOptions {
     int tile_size = 0;      ///< raster tile edge in pixels (a power of two); 0 picks the default
     /// Renderer::render(camera, width, height, path) renders only this part of the image, into a
     /// buffer of the region's size; the default is the whole image.
     Region region;
     Cull cull = Cull::None; ///< face culling, on every path (see Cull)
+    RasterAtomics raster_atomics = RasterAtomics::Auto; ///< the raster path's depth test (see RasterAtomics)
     BvhOptions bvh;         ///< the ray path's tree (Path::Ray; the brute path has none)
 };
 

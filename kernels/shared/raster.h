@@ -291,9 +291,12 @@ static inline void clvis_raster_edge(clvis_raster_vertex a, clvis_raster_vertex 
 
 /* Sets up triangle (v0, v1, v2) for a width x height image. Returns 0 when it covers no sample:
    zero doubled area after snapping, culled by `cull`, or no pixel centre in its bounding box. */
-static inline int clvis_raster_setup(clvis_raster_vertex v0, clvis_raster_vertex v1, clvis_raster_vertex v2,
+static inline int clvis_raster_setup(clvis_raster_vertex a, clvis_raster_vertex b, clvis_raster_vertex c,
                                      clvis_u32 id, int width, int height, int cull, clvis_raster_tri* t)
 {
+    /* Reordered below in copies of its own, never in its parameters: Mesa 22.3's Rusticl let
+       assignments to struct parameters reach the caller's variables (raster_setup.cl's fan). */
+    clvis_raster_vertex v0 = a, v1 = b, v2 = c;
     /* The box first: most triangles of a dense mesh hold no pixel centre and stop here. */
     clvis_i64 xmin = v0.x < v1.x ? (v0.x < v2.x ? v0.x : v2.x) : (v1.x < v2.x ? v1.x : v2.x);
     clvis_i64 xmax = v0.x > v1.x ? (v0.x > v2.x ? v0.x : v2.x) : (v1.x > v2.x ? v1.x : v2.x);
@@ -423,5 +426,13 @@ static inline int clvis_raster_setup_region(clvis_raster_vertex v0, clvis_raster
    the square the tile); a multiple of the span of clvis_raster_span8. The host sizes the launch
    from it. */
 #define CLVIS_FINE_SUB 16
+#define CLVIS_FINE_SPANS (CLVIS_FINE_SUB / 8) /* 8-pixel spans per row of the square */
+/* Passes through loop headers of one work-item of raster_fine.cl, at most (a loop of n iterations
+   counts n + 1, the pass that leaves it included, as Mesa's llvmpipe counts them): per bin entry
+   (the entry; each row; each span), and for the rest (clearing, then storing, the square's spans,
+   a partial span's lanes). The host splits the bins into launches that stay within half a
+   device's loop limit (Device::Impl::loop_limit). */
+#define CLVIS_FINE_TRIPS_PER_ENTRY (2 + CLVIS_FINE_SUB * (2 + CLVIS_FINE_SPANS))
+#define CLVIS_FINE_TRIPS_FIXED (2 * (1 + CLVIS_FINE_SUB * (2 + CLVIS_FINE_SPANS)) + 9)
 
 #endif

@@ -20,10 +20,12 @@ Path path_named(const std::string& name)
 namespace {
 
 RenderOptions render_options(int tile, const std::string& cull, int leaf_size, int sah_bins,
-                             const std::string& bvh_update)
+                             const std::string& bvh_update, const std::string& raster_atomics)
 {
     RenderOptions o;
     o.tile_size = tile;
+    o.raster_atomics = parse_choice<RasterAtomics>(
+        raster_atomics, "raster_atomics", {{"auto", RasterAtomics::Auto}, {"on", RasterAtomics::On}, {"off", RasterAtomics::Off}});
     o.cull = parse_choice<Cull>(cull, "cull", {{"none", Cull::None}, {"back", Cull::Back}, {"front", Cull::Front}});
     o.bvh.max_leaf_size = leaf_size;
     o.bvh.sah_bins = sah_bins;
@@ -135,7 +137,8 @@ const char* renderer_doc =
     "Keeps a scene (a copy) on a device between frames and answers the visibility question by\n"
     "rasterization ('raster') or by ray casting through a BVH ('ray'); 'brute' tests every triangle.\n"
     "Options as the command line names them: tile (raster tile edge, a power of two; 0 the default),\n"
-    "cull ('none', 'back', 'front'), leaf_size and sah_bins (the BVH), bvh_update ('refit', 'rebuild').\n"
+    "cull ('none', 'back', 'front'), leaf_size and sah_bins (the BVH), bvh_update ('refit', 'rebuild'),\n"
+    "raster_atomics ('auto', 'on': 64-bit atomic depth test, 'off': tile ownership; the same keys).\n"
     "Methods release the GIL while the device works; one Renderer serves one call at a time.\n\n"
     "Example:\n    renderer = clvis.Renderer(clvis.Device('cpu'), scene)\n"
     "    vis = renderer.render(camera, 640, 360, path='ray')";
@@ -150,12 +153,13 @@ void bind_render(nb::module_& m)
     r.def(
             "__init__",
             [](PyRenderer* self, const Device& device, PyScene& scene, int tile, const std::string& cull,
-               int leaf_size, int sah_bins, const std::string& bvh_update) {
-                const RenderOptions o = render_options(tile, cull, leaf_size, sah_bins, bvh_update);
+               int leaf_size, int sah_bins, const std::string& bvh_update, const std::string& raster_atomics) {
+                const RenderOptions o = render_options(tile, cull, leaf_size, sah_bins, bvh_update, raster_atomics);
                 unlocked(scene.lock, [&] { new (self) PyRenderer{Renderer(device, scene.scene, o), {}, std::uint32_t(scene.scene.triangle_count()), nullptr}; });
             },
             nb::arg("device"), nb::arg("scene"), nb::kw_only(), nb::arg("tile") = 0, nb::arg("cull") = "none",
-            nb::arg("leaf_size") = 4, nb::arg("sah_bins") = 16, nb::arg("bvh_update") = "refit")
+            nb::arg("leaf_size") = 4, nb::arg("sah_bins") = 16, nb::arg("bvh_update") = "refit",
+            nb::arg("raster_atomics") = "auto")
         .def("render", &render, nb::arg("camera"), nb::arg("width"), nb::arg("height"), nb::arg("path") = "raster",
              "Renders a width x height Visibility by `path` ('raster', 'ray' or 'brute').")
         .def(

@@ -28,6 +28,15 @@ def test_raster_and_ray_agree_on_the_bunny(device, bunny):
     assert report.equal > 0.95 * W * H
 
 
+def test_both_raster_depth_tests_give_the_same_buffer(device, bunny):
+    camera = clvis.Camera.framing(bunny.bounds())
+    want = clvis.Renderer(device, bunny, raster_atomics="auto").render(camera, W, H)
+    got = clvis.Renderer(device, bunny, raster_atomics="off").render(camera, W, H)
+    assert (want.ids != clvis.background_id).sum() > 0.05 * W * H
+    assert np.array_equal(want.ids, got.ids)
+    assert np.array_equal(want.depth.view(np.uint32), got.depth.view(np.uint32))
+
+
 @pytest.mark.parametrize("mesh", ["spot.obj", "teapot.obj", "suzanne.obj"])
 def test_raster_and_ray_agree_on_the_bundled_meshes(device, mesh):
     scene = clvis.load_scene(SCENES / mesh)

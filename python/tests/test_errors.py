@@ -77,6 +77,7 @@ def test_a_buffer_beyond_the_device_memory_is_a_limit_error(device, quad):
     (lambda r, c: clvis.Referee(clvis.Scene(), c, 8, 8).compare(r.render(c, 8, 8), r.render(c, 9, 8)), "9x8"),
     (lambda r, c: clvis.Referee(clvis.Scene(), c, 8, 8).judge(8, 0, 0), "pixel (8, 0) outside"),
     (lambda r, c: clvis.Renderer(r.device, clvis.Scene(), cull="sideways"), "cull: expected one of"),
+    (lambda r, c: clvis.Renderer(r.device, clvis.Scene(), raster_atomics="maybe"), "raster_atomics: expected one of"),
 ])
 def test_misuse_raises_an_invalid_argument_error(device, quad, call, error):
     renderer = clvis.Renderer(device, quad)
