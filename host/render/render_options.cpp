@@ -1,4 +1,4 @@
-// Names of the paths, for flags, messages and reports.
+// Names of the paths and coverage modes, for flags, messages and reports.
 #include <clvis/error.hpp>
 #include <clvis/render_options.hpp>
 
@@ -19,6 +19,22 @@ Path path_from_string(const std::string& name)
     for (Path p : {Path::Raster, Path::Ray, Path::Brute})
         if (name == to_string(p)) return p;
     throw Error(Error::Kind::InvalidArgument, "unknown path '" + name + "' (raster, ray or brute)");
+}
+
+const char* to_string(Coverage coverage) noexcept
+{
+    switch (coverage) {
+    case Coverage::Watertight: return "watertight";
+    case Coverage::RasterRule: return "raster-rule";
+    }
+    return "unknown";
+}
+
+Coverage coverage_from_string(const std::string& name)
+{
+    for (Coverage c : {Coverage::Watertight, Coverage::RasterRule})
+        if (name == to_string(c)) return c;
+    throw Error(Error::Kind::InvalidArgument, "unknown coverage '" + name + "' (watertight or raster-rule)");
 }
 
 } // namespace clvis
