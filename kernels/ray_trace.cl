@@ -112,8 +112,9 @@ static lanes_f permuted(float x, float y, float z, lanes_i k0, lanes_i k1)
     return select(select((lanes_f)(z), (lanes_f)(y), k1), (lanes_f)(x), k0);
 }
 
-/* clvis_ray_edges_of on every lane: the shear, the edge functions (with the double-precision
-   recompute on the lanes where one rounded to zero: one OR of the lanes decides), det and tz. */
+/* clvis_ray_edges_of on every lane: the shear, the edge functions (with the exact recompute,
+   clvis_exact_edges, on the lanes where one rounded to zero: one OR of the lanes decides), det
+   and tz. */
 typedef struct { lanes_f u, v, w, det, tz; } packet_edges;
 
 static packet_edges packet_edges_of(const packet* p, lanes_f akx, lanes_f aky, lanes_f akz, lanes_f bkx, lanes_f bky,
@@ -129,16 +130,22 @@ static packet_edges packet_edges_of(const packet* p, lanes_f akx, lanes_f aky, l
     r.u = cx * by - cy * bx;
     r.v = ax * cy - ay * cx;
     r.w = bx * ay - by * ax;
-#ifdef CLVIS_HAVE_DOUBLE
     lanes_i zero = (r.u == 0.0f) | (r.v == 0.0f) | (r.w == 0.0f);
-    if (or_lanes(zero)) {
-        double16 dax = convert_double16(ax), day = convert_double16(ay), dbx = convert_double16(bx);
-        double16 dby = convert_double16(by), dcx = convert_double16(cx), dcy = convert_double16(cy);
-        r.u = select(r.u, convert_float16(dcx * dby - dcy * dbx), zero);
-        r.v = select(r.v, convert_float16(dax * dcy - day * dcx), zero);
-        r.w = select(r.w, convert_float16(dbx * day - dby * dax), zero);
+    if (or_lanes(zero)) { /* rare: lane by lane, the scalar code's exact fallback */
+        float l_ax[CLVIS_PACKET], l_ay[CLVIS_PACKET], l_bx[CLVIS_PACKET], l_by[CLVIS_PACKET], l_cx[CLVIS_PACKET];
+        float l_cy[CLVIS_PACKET], l_u[CLVIS_PACKET], l_v[CLVIS_PACKET], l_w[CLVIS_PACKET];
+        int l_zero[CLVIS_PACKET];
+        vstore16(ax, 0, l_ax); vstore16(ay, 0, l_ay); vstore16(bx, 0, l_bx);
+        vstore16(by, 0, l_by); vstore16(cx, 0, l_cx); vstore16(cy, 0, l_cy);
+        vstore16(r.u, 0, l_u); vstore16(r.v, 0, l_v); vstore16(r.w, 0, l_w);
+        vstore16(zero, 0, l_zero);
+        for (int l = 0; l < CLVIS_PACKET; ++l)
+            if (l_zero[l])
+                clvis_exact_edges(&l_u[l], &l_v[l], &l_w[l], l_ax[l], l_ay[l], l_bx[l], l_by[l], l_cx[l], l_cy[l]);
+        r.u = vload16(0, l_u);
+        r.v = vload16(0, l_v);
+        r.w = vload16(0, l_w);
     }
-#endif
     r.det = r.u + r.v + r.w;
     r.tz = r.u * (p->sz * akz) + r.v * (p->sz * bkz) + r.w * (p->sz * ckz);
     return r;
