@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <random>
 #include <set>
+#include <vector>
 #include <string>
 
 using namespace clvis;
@@ -113,6 +114,27 @@ TEST_CASE("raster-rule rays equal the raster path on unseen soups and cameras", 
                                        "soup " + std::to_string(s) + " camera " + std::to_string(k));
         }
         CHECK(covered > 1000); // the cases draw something
+    }
+}
+
+TEST_CASE("a batch of views traced with the raster rule equals the raster path view by view",
+          "[device][rule]")
+{
+    Device device = Device::open();
+    Rng rng(7);
+    Scene scene;
+    scene.add_mesh(random_soup(rng, 500));
+    RenderOptions o;
+    o.coverage = Coverage::RasterRule;
+    Renderer raster(device, scene), rule(device, scene, o);
+    std::vector<Camera> cams;
+    for (int k = 0; k < 4; ++k) cams.push_back(random_camera(rng, k, 45, 37));
+    VisibilityBatch batch(device, 4, 45, 37);
+    render_views(rule, cams, Path::Ray, batch);
+    for (int k = 0; k < 4; ++k) {
+        INFO("view " << k << ": " << cams[k].to_flags());
+        HostVisibility r = raster.render(cams[k], 45, 37, Path::Raster).read();
+        CHECK(test::differing_bits(r, batch.view(k).read()) == 0);
     }
 }
 
