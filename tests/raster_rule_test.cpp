@@ -138,6 +138,36 @@ TEST_CASE("a batch of views traced with the raster rule equals the raster path v
     }
 }
 
+TEST_CASE("a region traced with the raster rule equals the raster path's full image there",
+          "[device][rule]")
+{
+    Device device = Device::open();
+    Rng rng(11);
+    Scene scene;
+    scene.add_mesh(random_soup(rng, 500));
+    Camera cam = random_camera(rng, 0, 61, 43);
+    HostVisibility full = Renderer(device, scene).render(cam, 61, 43, Path::Raster).read();
+    RenderOptions o;
+    o.coverage = Coverage::RasterRule;
+    o.region = {13, 6, 37, 29}; // packets from an unaligned corner, cut at both ends
+    Renderer rule(device, scene, o);
+    for (Path p : {Path::Ray, Path::Brute}) {
+        HostVisibility part = rule.render(cam, 61, 43, p).read();
+        REQUIRE(part.width == 37);
+        HostVisibility crop;
+        crop.width = 37;
+        crop.height = 29;
+        for (int y = 6; y < 35; ++y)
+            for (int x = 13; x < 50; ++x) {
+                crop.ids.push_back(full.id(x, y));
+                crop.depth.push_back(full.depth_at(x, y));
+            }
+        INFO(to_string(p) << " path");
+        CHECK(test::covered(crop) > 0);
+        CHECK(test::differing_bits(crop, part) == 0);
+    }
+}
+
 TEST_CASE("raster-rule rays take the raster's tie rule on shared edges; watertight ones need not",
           "[device][rule]")
 {
