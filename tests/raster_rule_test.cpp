@@ -42,6 +42,20 @@ MeshData random_soup(Rng& rng, int n)
     return m;
 }
 
+Scene soup_scene(Rng& rng)
+{
+    Scene s;
+    s.add_mesh(random_soup(rng, 500));
+    return s;
+}
+
+RenderOptions rule_options()
+{
+    RenderOptions o;
+    o.coverage = Coverage::RasterRule;
+    return o;
+}
+
 /// A random camera of kind k (0: perspective outside, 1: orthographic, 2: intrinsics with an
 /// off-centre principal point, 3: perspective inside the soup, so that triangles cross near).
 Camera random_camera(Rng& rng, int kind, int w, int h)
@@ -122,11 +136,8 @@ TEST_CASE("a batch of views traced with the raster rule equals the raster path v
 {
     Device device = Device::open();
     Rng rng(7);
-    Scene scene;
-    scene.add_mesh(random_soup(rng, 500));
-    RenderOptions o;
-    o.coverage = Coverage::RasterRule;
-    Renderer raster(device, scene), rule(device, scene, o);
+    Scene scene = soup_scene(rng);
+    Renderer raster(device, scene), rule(device, scene, rule_options());
     std::vector<Camera> cams;
     for (int k = 0; k < 4; ++k) cams.push_back(random_camera(rng, k, 45, 37));
     VisibilityBatch batch(device, 4, 45, 37);
@@ -143,12 +154,10 @@ TEST_CASE("a region traced with the raster rule equals the raster path's full im
 {
     Device device = Device::open();
     Rng rng(11);
-    Scene scene;
-    scene.add_mesh(random_soup(rng, 500));
+    Scene scene = soup_scene(rng);
     Camera cam = random_camera(rng, 0, 61, 43);
     HostVisibility full = Renderer(device, scene).render(cam, 61, 43, Path::Raster).read();
-    RenderOptions o;
-    o.coverage = Coverage::RasterRule;
+    RenderOptions o = rule_options();
     o.region = {13, 6, 37, 29}; // packets from an unaligned corner, cut at both ends
     Renderer rule(device, scene, o);
     for (Path p : {Path::Ray, Path::Brute}) {
