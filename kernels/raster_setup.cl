@@ -8,18 +8,13 @@
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
 #endif
-#include "shared/raster.h"
+#include "shared/raster_rule.h"
 
 /* Triangles whose pixel bounding box holds at most CLVIS_RASTER_SCALAR pixel centres are
    rasterized here sample by sample; those whose box is at most 8 pixels wide (one vector span)
    and CLVIS_RASTER_SMALL_ROWS rows tall, here row by row; the rest are binned. */
 #define CLVIS_RASTER_SCALAR 4     /* pixel centres */
 #define CLVIS_RASTER_SMALL_ROWS 8 /* rows */
-
-/* Worst case of Sutherland-Hodgman: a polygon of n vertices, I of them inside, comes out with
-   I + (sign changes) <= I + 2 min(I, n - I) <= 1.5 n vertices. Exact clipping keeps a triangle
-   convex (at most 3 + 5 = 8), but rounded cuts need not: 3 -> 4 -> 6 -> 9 -> 13 -> 19. */
-#define CLVIS_CLIP_CAPACITY 19
 
 typedef struct {
     clvis_camera_gpu cam;
@@ -34,9 +29,7 @@ typedef struct {
 static clvis_clip_vertex load_camera_vertex(clvis_camera_gpu cam, __global const float* positions, uint v)
 {
     size_t o = 3 * (size_t)v;
-    clvis_vec3 c = clvis_camera_from_world(cam, positions[o], positions[o + 1], positions[o + 2]);
-    clvis_clip_vertex p = {c.x, c.y, -c.z};
-    return p;
+    return clvis_clip_vertex_of(cam, positions[o], positions[o + 1], positions[o + 2]);
 }
 
 /* Lists t for binning. The count is 64 bits kept in two 32-bit words (core atomics): a total
@@ -88,30 +81,10 @@ static void emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_ra
 static void clip_and_emit(clvis_clip_vertex p0, clvis_clip_vertex p1, clvis_clip_vertex p2, uint id, clvis_guard g,
                           raster_setup_out out)
 {
-    clvis_clip_vertex poly[CLVIS_CLIP_CAPACITY], next[CLVIS_CLIP_CAPACITY];
-    poly[0] = p0;
-    poly[1] = p1;
-    poly[2] = p2;
-    int n = 3;
-    for (int plane = 0; plane < CLVIS_CLIP_PLANES; ++plane) {
-        int m = 0;
-        for (int k = 0; k < n; ++k) {
-            clvis_clip_vertex a = poly[k], b = poly[k + 1 == n ? 0 : k + 1];
-            float da = clvis_clip_distance(a, plane, out.cam.near_d, g, out.cam.ortho);
-            float db = clvis_clip_distance(b, plane, out.cam.near_d, g, out.cam.ortho);
-            if (da >= 0.0f) next[m++] = a;
-            /* No cut towards a point that is not finite (NaN distance): it is dropped whole. */
-            if (da == da && db == db && (da >= 0.0f) != (db >= 0.0f))
-                next[m++] = clvis_clip_cut(a, da, b, db, plane, out.cam.near_d, g, out.cam.ortho);
-        }
-        if (m < 3) return;
-        for (int k = 0; k < m; ++k) poly[k] = next[k];
-        n = m;
-    }
-    /* Fan from the lowest vertex: the same polygon walked from anywhere, either way round, gives
-       the same triangles (coincident triangles then tie exactly). */
-    int s = 0;
-    for (int k = 1; k < n; ++k) s = clvis_clip_vertex_less(poly[k], poly[s]) ? k : s;
+    clvis_clip_vertex poly[CLVIS_CLIP_CAPACITY];
+    int n = clvis_clip_polygon(p0, p1, p2, out.cam, g, poly); /* shared/raster_rule.h */
+    if (n < 3) return;
+    int s = clvis_fan_start(poly, n);
     clvis_raster_vertex first = clvis_raster_vertex_from(out.cam, poly[s]);
     clvis_raster_vertex prev = clvis_raster_vertex_from(out.cam, poly[s + 1 < n ? s + 1 : s + 1 - n]);
     for (int k = 2; k < n; ++k) {

@@ -1,7 +1,12 @@
 /* Casts one primary ray per pixel centre against every triangle of the scene, in id order, with
    the same watertight test as ray_trace.cl but no BVH: the reference the BVH path must equal,
-   and the brute path of host/ray/ray_pipeline.cpp for small scenes. */
+   and the brute path of host/ray/ray_pipeline.cpp for small scenes. Built with CLVIS_RASTER_RULE
+   (RenderOptions::coverage), each triangle covers the pixel and gives it the depth the raster path
+   would (shared/raster_rule.h) instead. */
 #include "shared/camera.h"
+#ifdef CLVIS_RASTER_RULE
+#include "shared/raster_rule.h"
+#endif
 #include "shared/ray.h"
 #include "shared/region.h"
 #include "shared/visibility.h"
@@ -18,10 +23,18 @@ __kernel void ray_brute(clvis_camera_gpu cam, __global const float* positions, _
     int lx = (int)get_global_id(0), ly = (int)get_global_id(1); /* in the region (shared/region.h) */
     if (lx >= region.width || ly >= region.height) return;
     int px = region.x + lx, py = region.y + ly;
+    ulong best = CLVIS_BACKGROUND_KEY;
+#ifdef CLVIS_RASTER_RULE
+    clvis_pixel_block blk = {px, py, 1, 1, 1};
+    for (uint id = 0; id < triangle_count; ++id) {
+        size_t i = 3 * (size_t)id;
+        clvis_raster_rule_keys(cam, cull, load_vertex(positions, indices[i]), load_vertex(positions, indices[i + 1]),
+                               load_vertex(positions, indices[i + 2]), id, blk, &best);
+    }
+#else
     clvis_vec3 origin, dir;
     clvis_primary_ray(cam, (float)px + 0.5f, (float)py + 0.5f, &origin, &dir);
     clvis_ray_shear ray = clvis_make_shear(origin, dir);
-    ulong best = CLVIS_BACKGROUND_KEY;
     for (uint id = 0; id < triangle_count; ++id) {
         size_t i = 3 * (size_t)id;
         float t;
@@ -30,5 +43,6 @@ __kernel void ray_brute(clvis_camera_gpu cam, __global const float* positions, _
         ulong key = clvis_make_key(t, id);
         best = hit && key < best ? key : best;
     }
+#endif
     keys[(size_t)ly * (size_t)region.width + (size_t)lx] = best;
 }

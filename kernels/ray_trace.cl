@@ -5,12 +5,16 @@
    stack; every box and triangle test runs on all 16 rays at once, the same operations as the
    scalar tests of shared/ray.h, so each ray gets the bits that ray_brute.cl computes for it. A
    child is skipped when no ray of the packet can meet it before its nearest hit so far.
-   Work-groups are screen tiles of packets. */
+   Work-groups are screen tiles of packets. Built with CLVIS_RASTER_RULE (RenderOptions::coverage),
+   each candidate triangle is judged by the raster path's predicate instead (packet_rule_leaf). */
 #include "shared/bvh.h"
 #include "shared/camera.h"
 #include "shared/ray.h"
 #include "shared/region.h"
 #include "shared/visibility.h"
+#ifdef CLVIS_RASTER_RULE
+#include "shared/raster_rule.h"
+#endif
 
 #define CLVIS_RAY_NONE 0xFFFFFFFFu
 
@@ -61,6 +65,7 @@ static int or_lanes(lanes_i m)
 static lanes_f raise(lanes_f acc, lanes_f v) { return select(acc, v, v > acc); }
 static lanes_f lower(lanes_f acc, lanes_f v) { return select(acc, v, v < acc); }
 
+#ifndef CLVIS_RASTER_RULE /* the watertight test on packets (the raster rule's is below) */
 /* clvis_ray_hits_box on every lane for child k of node n; `cull` is each ray's far distance (far,
    or its nearest hit) already scaled by CLVIS_IZE_SCALE. Where every lane enters through the same
    planes the planes are picked once, and with a common origin (perspective) plane - origin is
@@ -107,8 +112,9 @@ static lanes_f permuted(float x, float y, float z, lanes_i k0, lanes_i k1)
     return select(select((lanes_f)(z), (lanes_f)(y), k1), (lanes_f)(x), k0);
 }
 
-/* clvis_ray_edges_of on every lane: the shear, the edge functions (with the double-precision
-   recompute on the lanes where one rounded to zero: one OR of the lanes decides), det and tz. */
+/* clvis_ray_edges_of on every lane: the shear, the edge functions (with the exact recompute,
+   clvis_exact_edges, on the lanes where one rounded to zero: one OR of the lanes decides), det
+   and tz. */
 typedef struct { lanes_f u, v, w, det, tz; } packet_edges;
 
 static packet_edges packet_edges_of(const packet* p, lanes_f akx, lanes_f aky, lanes_f akz, lanes_f bkx, lanes_f bky,
@@ -124,16 +130,22 @@ static packet_edges packet_edges_of(const packet* p, lanes_f akx, lanes_f aky, l
     r.u = cx * by - cy * bx;
     r.v = ax * cy - ay * cx;
     r.w = bx * ay - by * ax;
-#ifdef CLVIS_HAVE_DOUBLE
     lanes_i zero = (r.u == 0.0f) | (r.v == 0.0f) | (r.w == 0.0f);
-    if (or_lanes(zero)) {
-        double16 dax = convert_double16(ax), day = convert_double16(ay), dbx = convert_double16(bx);
-        double16 dby = convert_double16(by), dcx = convert_double16(cx), dcy = convert_double16(cy);
-        r.u = select(r.u, convert_float16(dcx * dby - dcy * dbx), zero);
-        r.v = select(r.v, convert_float16(dax * dcy - day * dcx), zero);
-        r.w = select(r.w, convert_float16(dbx * day - dby * dax), zero);
+    if (or_lanes(zero)) { /* rare: lane by lane, the scalar code's exact fallback */
+        float l_ax[CLVIS_PACKET], l_ay[CLVIS_PACKET], l_bx[CLVIS_PACKET], l_by[CLVIS_PACKET], l_cx[CLVIS_PACKET];
+        float l_cy[CLVIS_PACKET], l_u[CLVIS_PACKET], l_v[CLVIS_PACKET], l_w[CLVIS_PACKET];
+        int l_zero[CLVIS_PACKET];
+        vstore16(ax, 0, l_ax); vstore16(ay, 0, l_ay); vstore16(bx, 0, l_bx);
+        vstore16(by, 0, l_by); vstore16(cx, 0, l_cx); vstore16(cy, 0, l_cy);
+        vstore16(r.u, 0, l_u); vstore16(r.v, 0, l_v); vstore16(r.w, 0, l_w);
+        vstore16(zero, 0, l_zero);
+        for (int l = 0; l < CLVIS_PACKET; ++l)
+            if (l_zero[l])
+                clvis_exact_edges(&l_u[l], &l_v[l], &l_w[l], l_ax[l], l_ay[l], l_bx[l], l_by[l], l_cx[l], l_cy[l]);
+        r.u = vload16(0, l_u);
+        r.v = vload16(0, l_v);
+        r.w = vload16(0, l_w);
     }
-#endif
     r.det = r.u + r.v + r.w;
     r.tz = r.u * (p->sz * akz) + r.v * (p->sz * bkz) + r.w * (p->sz * ckz);
     return r;
@@ -224,6 +236,7 @@ static void packet_test_triangle(const packet* p, __global const clvis_bvh_tri* 
     *best_t = select(*best_t, bits, nearer);
     *best_id = select(*best_id, id, nearer);
 }
+#endif
 
 /* Lane l's pixel offset within the packet: (l % 4, l / 4). */
 #define CLVIS_LANE_X ((lanes_i)(0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3))
@@ -299,6 +312,52 @@ static void make_packet(clvis_camera_gpu cam, int x0, int y0, packet* out)
     *out = p;
 }
 
+#ifdef CLVIS_RASTER_RULE
+/* Coverage by the raster path's rule (RenderOptions::coverage, CLVIS_RASTER_RULE): the packet
+   keeps its 16 keys in private memory, every candidate triangle leaves at each pixel the key the
+   raster path leaves there (shared/raster_rule.h: set up once per triangle for the whole packet),
+   and a box is skipped only where no ray can find such a key in it: the ray misses the box
+   widened by clvis_rule_box_of's margin, or every key in it would lie beyond the ray's nearest
+   (its depth range starts past it) or before near. */
+static lanes_i packet_hits_box_rule(const packet* p, clvis_camera_gpu cam, __global const clvis_bvh4_node* n, int k,
+                                    lanes_f cull)
+{
+    float lx = n->lo_x[k], ly = n->lo_y[k], lz = n->lo_z[k], hx = n->hi_x[k], hy = n->hi_y[k], hz = n->hi_z[k];
+    if (!(lx <= hx && ly <= hy && lz <= hz)) return (lanes_i)(0); /* an unused slot */
+    clvis_rule_box b = clvis_rule_box_of(cam, lx, ly, lz, hx, hy, hz);
+    if (b.hi_d < cam.near_d) return (lanes_i)(0);
+    float lo_d = b.lo_d == b.lo_d ? b.lo_d : -CLVIS_INFINITY; /* a NaN (overflow) skips nothing */
+    lanes_f lox = (lanes_f)(lx - b.margin), loy = (lanes_f)(ly - b.margin), loz = (lanes_f)(lz - b.margin);
+    lanes_f hix = (lanes_f)(hx + b.margin), hiy = (lanes_f)(hy + b.margin), hiz = (lanes_f)(hz + b.margin);
+    lanes_f t0 = raise(raise((select(lox, hix, p->nx) - p->ox) * p->ix, (select(loy, hiy, p->ny) - p->oy) * p->iy),
+                       (select(loz, hiz, p->nz) - p->oz) * p->iz);
+    lanes_f t1 = lower(lower((select(hix, lox, p->nx) - p->ox) * p->ix, (select(hiy, loy, p->ny) - p->oy) * p->iy),
+                       (select(hiz, loz, p->nz) - p->oz) * p->iz);
+    /* the whole line, either side of its origin; the margin dwarfs the slab test's rounding */
+    t0 = t0 - fabs(t0) * 9.5367431640625e-7f;
+    t1 = t1 + fabs(t1) * 9.5367431640625e-7f;
+    return (t0 <= t1) & ((lanes_f)(lo_d) <= cull);
+}
+
+/* The raster rule on every pixel of the packet for the triangles of a leaf; `cull` becomes each
+   ray's nearest key depth (or far). */
+static void packet_rule_leaf(__global const clvis_bvh_tri* tris, uint first, uint count, clvis_camera_gpu cam,
+                             int faces, int x0, int y0, ulong* best, lanes_f* cull)
+{
+    clvis_pixel_block blk = {x0, y0, min(CLVIS_PACKET_W, cam.width - x0), min(CLVIS_PACKET_H, cam.height - y0),
+                             CLVIS_PACKET_W};
+    for (uint k = first; k < first + count; ++k) {
+        __global const clvis_bvh_tri* t = tris + k;
+        clvis_vec3 a = {t->v0_x, t->v0_y, t->v0_z}, b = {t->v1_x, t->v1_y, t->v1_z}, c = {t->v2_x, t->v2_y, t->v2_z};
+        clvis_raster_rule_keys(cam, faces, a, b, c, t->id, blk, best);
+    }
+    uint depth[CLVIS_PACKET];
+    for (int l = 0; l < CLVIS_PACKET; ++l) depth[l] = (uint)(best[l] >> 32);
+    *cull = fmin((lanes_f)(cam.far_d), as_float16(vload16(0, depth)));
+}
+#endif
+
+#ifndef CLVIS_RASTER_RULE
 /* Tests the triangles of a leaf on every lane. */
 static void packet_test_leaf(const packet* p, __global const clvis_bvh_tri* tris, uint first, uint count,
                              clvis_camera_gpu cam, int faces, lanes_u* best_t, lanes_u* best_id, lanes_f* cull)
@@ -307,6 +366,7 @@ static void packet_test_leaf(const packet* p, __global const clvis_bvh_tri* tris
         packet_test_triangle(p, tris + k, cam.near_d, cam.far_d, faces, best_t, best_id);
     *cull = fmin((lanes_f)(cam.far_d), as_float16(*best_t)) * CLVIS_IZE_SCALE;
 }
+#endif
 
 /* Traces the packet of pixels from (x0, y0) (in the image) and writes the keys of those inside
    `region` into its buffer (shared/region.h); `faces` is the cull mode (CLVIS_CULL_*). Stack
@@ -318,9 +378,20 @@ static void trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int 
     int x_end = region.x + region.width, y_end = region.y + region.height;
     packet p;
     make_packet(cam, x0, y0, &p);
+#ifdef CLVIS_RASTER_RULE
+    ulong best[CLVIS_PACKET];
+    for (int l = 0; l < CLVIS_PACKET; ++l) best[l] = CLVIS_BACKGROUND_KEY;
+    lanes_f cull = (lanes_f)(cam.far_d); /* each ray's nearest key depth, or far */
+#define CLVIS_HITS_BOX(nd, k) packet_hits_box_rule(&p, cam, nd, k, cull)
+#define CLVIS_TEST_LEAF(nd, k) packet_rule_leaf(tris, nd->child[k], nd->count[k], cam, faces, x0, y0, best, &cull)
+#else
     lanes_u best_t = (lanes_u)(clvis_float_bits(CLVIS_INFINITY)), best_id = (lanes_u)(CLVIS_BACKGROUND_ID);
     /* each ray's far distance (far, or its nearest hit), scaled for the conservative slab test */
     lanes_f cull = (lanes_f)(cam.far_d * CLVIS_IZE_SCALE);
+#define CLVIS_HITS_BOX(nd, k) packet_hits_box(&p, nd, k, cam.near_d, cull)
+#define CLVIS_TEST_LEAF(nd, k) \
+    packet_test_leaf(&p, tris, nd->child[k], nd->count[k], cam, faces, &best_t, &best_id, &cull)
+#endif
 
     uint stack[CLVIS_RAY_STACK];
     uint sp = 0;
@@ -333,10 +404,8 @@ static void trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int 
             float along[4];
             uint hits = 0;
             /* the four children's masks as bits 0-3 of each lane, then one reduction for all */
-            int child_bits = or_lanes((packet_hits_box(&p, nd, 0, cam.near_d, cull) & 1) |
-                                      (packet_hits_box(&p, nd, 1, cam.near_d, cull) & 2) |
-                                      (packet_hits_box(&p, nd, 2, cam.near_d, cull) & 4) |
-                                      (packet_hits_box(&p, nd, 3, cam.near_d, cull) & 8));
+            int child_bits = or_lanes((CLVIS_HITS_BOX(nd, 0) & 1) | (CLVIS_HITS_BOX(nd, 1) & 2) |
+                                      (CLVIS_HITS_BOX(nd, 2) & 4) | (CLVIS_HITS_BOX(nd, 3) & 8));
             for (int k = 0; k < 4; ++k) {
                 if (!(child_bits & (1 << k))) continue;
                 float d = (nd->lo_x[k] + nd->hi_x[k]) * p.cx + (nd->lo_y[k] + nd->hi_y[k]) * p.cy +
@@ -353,7 +422,7 @@ static void trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int 
             if (hits > 0) {
                 for (uint i = hits - 1; i > 0; --i) stack[sp++] = (uint)(nd - nodes) << 2 | order[i];
                 uint k = order[0];
-                if (nd->count[k] > 0) packet_test_leaf(&p, tris, nd->child[k], nd->count[k], cam, faces, &best_t, &best_id, &cull);
+                if (nd->count[k] > 0) CLVIS_TEST_LEAF(nd, k);
                 else node = nd->child[k];
             }
         }
@@ -362,20 +431,26 @@ static void trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int 
             uint e = stack[--sp];
             __global const clvis_bvh4_node* nd = nodes + (e >> 2);
             uint k = e & 3;
-            if (or_lanes(packet_hits_box(&p, nd, (int)k, cam.near_d, cull)) >= 0) continue; /* no lane's sign bit */
-            if (nd->count[k] > 0) packet_test_leaf(&p, tris, nd->child[k], nd->count[k], cam, faces, &best_t, &best_id, &cull);
+            if (or_lanes(CLVIS_HITS_BOX(nd, (int)k)) >= 0) continue; /* no lane's sign bit */
+            if (nd->count[k] > 0) CLVIS_TEST_LEAF(nd, k);
             else node = nd->child[k];
         }
         if (node == CLVIS_RAY_NONE) break;
     }
 
+#undef CLVIS_HITS_BOX
+#undef CLVIS_TEST_LEAF
+#ifndef CLVIS_RASTER_RULE
     uint t_bits[CLVIS_PACKET], ids[CLVIS_PACKET];
     vstore16(best_t, 0, t_bits);
     vstore16(best_id, 0, ids);
+    ulong best[CLVIS_PACKET];
+    for (int l = 0; l < CLVIS_PACKET; ++l) best[l] = ((ulong)t_bits[l] << 32) | ids[l];
+#endif
     for (int l = 0; l < CLVIS_PACKET; ++l) {
         int x = x0 + l % CLVIS_PACKET_W, y = y0 + l / CLVIS_PACKET_W;
         if (x < x_end && y < y_end)
-            keys[(size_t)(y - region.y) * (size_t)region.width + (size_t)(x - region.x)] = ((ulong)t_bits[l] << 32) | ids[l];
+            keys[(size_t)(y - region.y) * (size_t)region.width + (size_t)(x - region.x)] = best[l];
     }
 }
 

@@ -2,7 +2,9 @@
 // anywhere, with the renderer's own options), raster against ray compared (explained mismatches
 // counted, within CONVENTIONS.md's budget on real meshes under general cameras), on the bundled meshes under framing and seeded random cameras, and on
 // procedural stress scenes built to put samples on shared edges, ties, slivers, huge triangles and
-// extreme depth ranges. Each case prints one line, so a regression shows in the test log.
+// extreme depth ranges. Every case also renders the ray and brute paths with the raster-rule
+// coverage, whose ids and depths must equal the raster path's bit for bit on every pixel. Each
+// case prints one line, so a regression shows in the test log.
 #include "catch.hpp"
 #include "test_meshes.hpp"
 
@@ -166,9 +168,30 @@ std::size_t raster_modes_differ(Renderer& renderer, const Scene& scene, const Ca
     return differ;
 }
 
+/// The ray path (and the brute path) with Coverage::RasterRule on a twin of `renderer` (the same
+/// scene and options): their ids and depths must equal the raster path's bit for bit, every
+/// pixel. Returns the pixels that differ (summed over the paths).
+std::size_t raster_rule_differ(const Renderer& renderer, const Scene& scene, const Camera& cam, int w, int h,
+                               bool brute, const HostVisibility& raster)
+{
+    RenderOptions o = renderer.options();
+    o.coverage = Coverage::RasterRule;
+    Renderer twin(renderer.device(), scene, o);
+    std::size_t differ = 0;
+    for (Path p : {Path::Ray, Path::Brute}) {
+        if (p == Path::Brute && !brute) continue;
+        std::size_t d = test::differing_bits(raster, twin.render(cam, w, h, p).read());
+        INFO(to_string(p) << " path, raster-rule coverage: " << d << " pixels differ from the raster path's");
+        CHECK(d == 0);
+        differ += d;
+    }
+    return differ;
+}
+
 /// Renders one frame with both paths (and the brute path), judges every pixel of each with the
-/// referee, checks ids and, optionally, agreement with reference(); compares raster with ray, and
-/// the raster path's two depth tests (raster_modes_differ).
+/// referee, checks ids and, optionally, agreement with reference(); compares raster with ray, the
+/// raster path's two depth tests (raster_modes_differ) and the ray paths' raster rule with the
+/// raster path (raster_rule_differ).
 Frames agree(Renderer& renderer, const Scene& scene, const std::string& name, const Camera& cam, int w, int h,
              bool brute, bool with_reference, Tally& tally, RefereeTolerance tol = {})
 {
@@ -223,6 +246,8 @@ Frames agree(Renderer& renderer, const Scene& scene, const std::string& name, co
     std::size_t modes_differ = raster_modes_differ(renderer, scene, cam, w, h);
     CHECK(modes_differ == 0);
     len += std::snprintf(line + len, sizeof line - len, " | atomics/tiles %zu differ", modes_differ);
+    std::size_t rule_differ = raster_rule_differ(renderer, scene, cam, w, h, brute, f.vis[0]);
+    len += std::snprintf(line + len, sizeof line - len, " | rule %zu differ", rule_differ);
     CompareReport rr = ref.compare(f.vis[0], f.vis[1], options);
     INFO("raster vs ray" << first_errors(rr));
     CHECK(rr.errors == 0);

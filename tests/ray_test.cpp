@@ -9,8 +9,15 @@
 
 #include <CL/cl.h>
 
+#include "shared/ray.h"
+
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
 using namespace clvis;
 
@@ -244,6 +251,103 @@ TEST_CASE("rays aimed exactly at shared edges and vertices of a tessellated plan
         INFO(cam.to_flags());
         CHECK(covered(v) == std::size_t(61) * 47);
     }
+}
+
+namespace {
+
+/// Sets CLVIS_EXACT_FLOAT for its lifetime (kernels built meanwhile take the float-only exact
+/// fallback, shared/exact.h), then restores what was there.
+struct ExactFloat {
+    std::string saved;
+    bool had = false;
+    explicit ExactFloat(const char* value)
+    {
+        if (const char* v = std::getenv("CLVIS_EXACT_FLOAT")) {
+            saved = v;
+            had = true;
+        }
+        setenv("CLVIS_EXACT_FLOAT", value, 1);
+    }
+    ~ExactFloat()
+    {
+        if (had) setenv("CLVIS_EXACT_FLOAT", saved.c_str(), 1);
+        else unsetenv("CLVIS_EXACT_FLOAT");
+    }
+};
+
+/// Pairs of a ray and a triangle whose float edge functions round one to zero (the exact fallback
+/// runs) for rays (x, y, 40) -> -z at pixel centres x, y = k + 0.5 of a w x h grid around 0.
+std::size_t fallbacks(const Scene& s, int w, int h)
+{
+    std::size_t n = 0;
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+            clvis_vec3 origin = {float(i - w / 2) + 0.5f, float(h / 2 - j) - 0.5f, 40.0f};
+            clvis_ray_shear ray = clvis_make_shear(origin, {0, 0, -1});
+            for (std::uint32_t id = 0; id < s.triangle_count(); ++id) {
+                float v[9];
+                s.triangle(id, v);
+                clvis_tri_2d p = clvis_project_triangle_scaled(ray, {v[0], v[1], v[2]}, {v[3], v[4], v[5]},
+                                                               {v[6], v[7], v[8]}, 1.0f);
+                float u = p.cx * p.by - p.cy * p.bx, vv = p.ax * p.cy - p.ay * p.cx, ww = p.bx * p.ay - p.by * p.ax;
+                n += u == 0.0f || vv == 0.0f || ww == 0.0f;
+            }
+        }
+    return n;
+}
+
+} // namespace
+
+TEST_CASE("the float-only exact edge fallback gives the double form's bits, watertight", "[device][ray]")
+{
+    // Pixel centres on the vertices and edges of plane grids (orthographic, 1 px per unit: the
+    // fallback runs on every shared edge); tilted grids under perspective behind triangles in
+    // planes x = k / 4, one of them through the eye and the middle column of pixels (edge-on).
+    Device d = device();
+    const int w = 64, h = 48;
+    Camera ortho = Camera::orthographic({0, 0, 40}, {0, 0, 0}, {0, 1, 0}, h, 0.5, 100);
+    struct Case {
+        Scene scene;
+        Camera cam;
+        int w;
+    };
+    std::vector<Case> cases;
+    for (float x0 : {-40.5f, -40.0f}) {
+        Scene s;
+        s.add_mesh(plane_grid(82, x0, -30.5f, 1.0f, x0 < -40.25f ? 0.0f : 0.25f, -0.125f));
+        cases.push_back({s, ortho, w});
+    }
+    std::size_t taken = fallbacks(cases[0].scene, w, h);
+    std::printf("exact fallback: %zu ray/triangle pairs of the vertex grid take it\n", taken);
+    CHECK(taken > std::size_t(w) * h);
+    std::mt19937 rng(29);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int i = 0; i < 4; ++i) {
+        Scene s;
+        s.add_mesh(plane_grid(100, -10.0f, -10.0f, 0.2f, 0.1f * float(i), 0.05f));
+        for (int k = -10; k <= 10; ++k) {
+            float x = 0.25f * float(k);
+            s.add_mesh(triangle(x, -3, 1, x, 3, 1, x, 0, 2.5f));
+        }
+        cases.push_back({s, Camera::perspective({0, u(rng), 4 + u(rng)}, {0, 0, 0}, {0, 1, 0}, 50, 0.01, 100), w + 1});
+    }
+    for (const Case& c : cases) {
+        std::vector<HostVisibility> forms;
+        for (const char* exact_float : {"0", "1"}) {
+            ExactFloat env(exact_float);
+            Renderer r(d, c.scene);
+            forms.push_back(r.render(c.cam, c.w, h, Path::Ray).read());
+            forms.push_back(r.render(c.cam, c.w, h, Path::Brute).read());
+        }
+        INFO(c.cam.to_flags());
+        CHECK(covered(forms[2]) == std::size_t(c.w) * h); // no hole with the float-only form
+        CHECK(test::differing_bits(forms[0], forms[2]) == 0);
+        CHECK(test::differing_bits(forms[1], forms[3]) == 0);
+        CHECK(test::differing_bits(forms[2], forms[3]) == 0);
+    }
+    ExactFloat bad("yes");
+    CHECK_THROWS_WITH(Renderer(d, cases[0].scene).render(ortho, 8, 8, Path::Ray),
+                      Catch::Contains("CLVIS_EXACT_FLOAT must be 0 or 1, got 'yes'"));
 }
 
 TEST_CASE("hand-made cases near, far, behind, ortho, ties, degenerate, every pixel written", "[device][ray]")

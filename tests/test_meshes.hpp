@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 namespace clvis::test {
 
@@ -37,6 +38,20 @@ inline std::size_t covered(const HostVisibility& v)
 {
     std::size_t n = 0;
     for (auto id : v.ids) n += id != background_id;
+    return n;
+}
+
+/// Pixels where two buffers differ in the id or in the depth's bits (bit-identical: 0).
+inline std::size_t differing_bits(const HostVisibility& a, const HostVisibility& b)
+{
+    if (a.ids.size() != b.ids.size() || a.depth.size() != b.depth.size()) return a.ids.size() + b.ids.size() + 1;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < a.ids.size(); ++i) {
+        std::uint32_t da, db;
+        std::memcpy(&da, &a.depth[i], 4);
+        std::memcpy(&db, &b.depth[i], 4);
+        n += a.ids[i] != b.ids[i] || da != db;
+    }
     return n;
 }
 

@@ -29,6 +29,7 @@ struct RenderArgs {
     DeviceOptions device;
     std::string path = "raster";
     std::string ids, depth, image, shade = "lambert", cull = "none", raster_atomics = "auto";
+    std::string coverage = "watertight"; ///< the ray paths' inside test (RenderOptions::coverage)
     std::string bary, normals, position; ///< attributes resolved from the buffer (EXR)
     std::string visible;                 ///< the visible set: ids, one per line, ascending
     std::string views;                   ///< a views file: many cameras, one batch
@@ -352,6 +353,7 @@ nlohmann::json render_json(const RenderArgs& a, const SceneFile& file,
     j["load_ms"] = load_ms;
     j["warm_up"] = a.repeat > 0 || a.timings;
     j["camera"] = camera.to_flags();
+    j["coverage"] = a.coverage;
     if (several) {
         j["build_ms"] = results[1].build_ms;
         j["results"] = nlohmann::json::array();
@@ -368,6 +370,7 @@ RenderOptions render_options(const RenderArgs& a)
     options.cull = a.cull == "back" ? Cull::Back : a.cull == "front" ? Cull::Front : Cull::None;
     options.raster_atomics = raster_atomics_from_string(a.raster_atomics);
     options.bvh.max_leaf_size = a.leaf;
+    options.coverage = coverage_from_string(a.coverage);
     return options;
 }
 
@@ -473,6 +476,10 @@ void add_render_command(CLI::App& app)
         ->check(CLI::IsMember({"auto", "on", "off"}));
     cmd->add_option("--leaf-size", args->leaf, "BVH: triangles per leaf at most");
     args->spread.add_to(*cmd);
+    cmd->add_option("--coverage", args->coverage,
+                    "ray and brute paths: watertight (the ray test, default) or raster-rule (the raster path's "
+                    "predicate: buffers bit-identical to raster's)")
+        ->check(CLI::IsMember({"watertight", "raster-rule"}));
     cmd->add_flag("--json", args->json, "print one JSON object with the timings on standard output");
     cmd->add_flag("--timings", args->timings,
                   "what a one-off render pays before its first frame: device open, renderer (upload), prepare "

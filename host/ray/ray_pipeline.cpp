@@ -1,6 +1,7 @@
 // The ray path: builds the BVH on the host (bvh_build.cpp), keeps it resident on the device,
 // follows moved vertices by refit or rebuild, and enqueues one trace per frame: ray_trace.cl
-// through the BVH, or ray_brute.cl against every triangle.
+// through the BVH, or ray_brute.cl against every triangle, each built for RenderOptions::coverage
+// (the watertight test, or CLVIS_RASTER_RULE: the raster path's predicate).
 #include "render/pipeline.hpp"
 
 #include "ray/bvh_build.hpp"
@@ -10,6 +11,7 @@
 
 #include <array>
 #include <chrono>
+#include <string>
 
 namespace clvis::detail {
 
@@ -28,6 +30,12 @@ constexpr int stack_step = 16;
 /// On PoCL a group of 4x4 packets (16x16 pixels) ran as fast as smaller ones and faster than 8x8
 /// (whose private stacks and packets no longer stay in cache).
 constexpr std::array<std::array<std::size_t, 2>, 5> group_choices{{{4, 4}, {4, 2}, {2, 2}, {2, 1}, {1, 1}}};
+
+/// The build option that selects the coverage mode of ray_trace.cl and ray_brute.cl.
+std::string coverage_define(Coverage coverage)
+{
+    return coverage == Coverage::RasterRule ? "-DCLVIS_RASTER_RULE=1" : "";
+}
 
 double ms_since(std::chrono::steady_clock::time_point t0)
 {
@@ -69,7 +77,9 @@ struct RayPipeline::Impl {
     {
         int stack = ((3 * wide.depth + 1) / stack_step + 1) * stack_step;
         if (stack == trace_stack) return;
-        cl::Program program = device.program("ray_trace", "-DCLVIS_RAY_STACK=" + std::to_string(stack));
+        std::string define = coverage_define(options.coverage);
+        cl::Program program = device.program("ray_trace", "-DCLVIS_RAY_STACK=" + std::to_string(stack) +
+                                                               (define.empty() ? "" : " " + define));
         trace = cl::Kernel(program, "ray_trace");
         trace_views = cl::Kernel(program, "ray_trace_views");
         trace_group = pick_group(trace);
@@ -130,7 +140,7 @@ struct RayPipeline::Impl {
 RayPipeline::RayPipeline(Device::Impl& device, const RenderOptions& options)
     : impl_(std::make_unique<Impl>(device, options))
 {
-    impl_->brute = cl::Kernel(device.program("ray_brute"), "ray_brute");
+    impl_->brute = cl::Kernel(device.program("ray_brute", coverage_define(options.coverage)), "ray_brute");
     impl_->brute_group = impl_->pick_group(impl_->brute);
 }
 

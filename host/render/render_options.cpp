@@ -1,4 +1,5 @@
-// Names of the paths and of the raster path's depth-test modes, for flags, messages and reports.
+// Names of the paths, of the raster path's depth-test modes and of the coverage modes, for flags,
+// messages and reports.
 #include <clvis/error.hpp>
 #include <clvis/render_options.hpp>
 
@@ -31,11 +32,27 @@ const char* to_string(RasterAtomics mode) noexcept
     return "unknown";
 }
 
+const char* to_string(Coverage coverage) noexcept
+{
+    switch (coverage) {
+    case Coverage::Watertight: return "watertight";
+    case Coverage::RasterRule: return "raster-rule";
+    }
+    return "unknown";
+}
+
 RasterAtomics raster_atomics_from_string(const std::string& name)
 {
     for (RasterAtomics m : {RasterAtomics::Auto, RasterAtomics::On, RasterAtomics::Off})
         if (name == to_string(m)) return m;
     throw Error(Error::Kind::InvalidArgument, "unknown raster atomics mode '" + name + "' (auto, on or off)");
+}
+
+Coverage coverage_from_string(const std::string& name)
+{
+    for (Coverage c : {Coverage::Watertight, Coverage::RasterRule})
+        if (name == to_string(c)) return c;
+    throw Error(Error::Kind::InvalidArgument, "unknown coverage '" + name + "' (watertight or raster-rule)");
 }
 
 } // namespace clvis

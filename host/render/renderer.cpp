@@ -26,6 +26,9 @@ void check_options(const RenderOptions& o)
     if (o.bvh.sah_bins < 2 || o.bvh.sah_bins > 256)
         throw Error(Error::Kind::InvalidArgument,
                     "BVH SAH bins must lie in [2, 256], got " + std::to_string(o.bvh.sah_bins));
+    if (o.coverage != Coverage::Watertight && o.coverage != Coverage::RasterRule)
+        throw Error(Error::Kind::InvalidArgument,
+                    "unknown coverage mode " + std::to_string(static_cast<int>(o.coverage)));
 }
 
 /// A region of at least one pixel inside the width x height image.

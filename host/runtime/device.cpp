@@ -239,6 +239,16 @@ std::filesystem::path binary_cache_dir()
     return {};
 }
 
+/// CLVIS_EXACT_FLOAT=1 builds every kernel with the float-only form of the ray path's exact edge
+/// fallback (kernels/shared/exact.h), the form devices without cl_khr_fp64 always use.
+bool exact_float_requested()
+{
+    const char* v = std::getenv("CLVIS_EXACT_FLOAT");
+    if (!v || !*v || std::string(v) == "0") return false;
+    if (std::string(v) == "1") return true;
+    throw Error(Error::Kind::InvalidArgument, std::string("CLVIS_EXACT_FLOAT must be 0 or 1, got '") + v + "'");
+}
+
 std::string build_log(const cl::Program& program)
 {
     std::string log;
@@ -418,6 +428,7 @@ std::string Device::Impl::build_options(const std::string& extra) const
 {
     std::string options = "-cl-std=CL1.2";
     if (info.correctly_rounded_divide_sqrt) options += " -cl-fp32-correctly-rounded-divide-sqrt";
+    if (exact_float_requested()) options += " -DCLVIS_EXACT_FLOAT=1";
     if (!extra.empty()) options += " " + extra;
     return options;
 }

@@ -2,7 +2,8 @@
 // Plain types without OpenCL, shared by the Renderer, the paths behind it, the referee and the
 // tools. Every RenderOptions field means the same on every path (Path::Raster, Path::Ray,
 // Path::Brute): `cull` changes the answer, and every path and the referee apply it alike;
-// `tile_size`, `raster_atomics` and `bvh` only tune one path's speed and never change an answer.
+// `tile_size`, `raster_atomics` and `bvh` only tune one path's speed and never change an answer;
+// `coverage` picks the ray paths' tie rule on shared edges (both answers are right, see Coverage).
 #pragma once
 
 #include <cstddef>
@@ -33,6 +34,24 @@ enum class Cull {
     Back,  ///< back faces dropped
     Front, ///< front faces dropped
 };
+
+/// How the ray path decides that a primary ray's sample lies inside a triangle (Path::Ray and
+/// Path::Brute; the raster path always applies its own rule).
+enum class Coverage {
+    /// The watertight ray/triangle test (Woop et al.), edges inclusive, depth = the ray's hit
+    /// distance: buffers agree with the raster path's up to samples within float rounding of a
+    /// shared edge (CONVENTIONS.md).
+    Watertight,
+    /// The raster path's own predicate for every candidate triangle of a primary ray: the same
+    /// projection, clipping against near and the guard band, 16.16 snapping, edge functions with
+    /// the top-left rule, culling and depth formula, so that ids and depths are bit-identical to
+    /// Path::Raster's. Slower (a triangle set-up per candidate and packet).
+    RasterRule,
+};
+
+const char* to_string(Coverage coverage) noexcept;
+/// "watertight" or "raster-rule"; throws Error(InvalidArgument) otherwise.
+Coverage coverage_from_string(const std::string& name);
 
 /// How a BVH follows a mesh whose positions changed (Renderer::update).
 enum class BvhUpdate { Refit, Rebuild };
@@ -73,6 +92,7 @@ struct RenderOptions {
     Cull cull = Cull::None; ///< face culling, on every path (see Cull)
     RasterAtomics raster_atomics = RasterAtomics::Auto; ///< the raster path's depth test (see RasterAtomics)
     BvhOptions bvh;         ///< the ray path's tree (Path::Ray; the brute path has none)
+    Coverage coverage = Coverage::Watertight; ///< the ray paths' inside test (see Coverage)
 };
 
 struct StageTiming {

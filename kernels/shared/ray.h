@@ -21,6 +21,19 @@
 #define CLVIS_INFINITY (std::numeric_limits<float>::infinity())
 #define CLVIS_HAVE_DOUBLE 1
 #endif
+#include "shared/exact.h"
+
+/* The exact a b - c d of the edge functions' fallback (shared/exact.h): in double where the
+   device has it, float-only (integers) without cl_khr_fp64 or where the host builds the kernels
+   with CLVIS_EXACT_FLOAT (the environment variable CLVIS_EXACT_FLOAT=1); the same bits either way. */
+static inline float clvis_exact_dp(float a, float b, float c, float d)
+{
+#if defined(CLVIS_HAVE_DOUBLE) && !defined(CLVIS_EXACT_FLOAT)
+    return clvis_exact_dp_double(a, b, c, d);
+#else
+    return clvis_exact_dp_int(a, b, c, d);
+#endif
+}
 
 /* Ize's factor 1 + 2 gamma(3), gamma(n) = n u / (1 - n u), u = 2^-24: the far distance of a slab
    test scaled by it bounds the rounding of (plane - origin) * (1 / direction). */
@@ -100,6 +113,15 @@ typedef struct clvis_tri_2d {
     float unscale;                  /* 1 / the scale applied to every coordinate */
 } clvis_tri_2d;
 
+/* The three edge functions of clvis_tri_2d exactly rounded (the fallback where one rounded to 0). */
+static inline void clvis_exact_edges(float* u, float* v, float* w, float ax, float ay, float bx, float by, float cx,
+                                     float cy)
+{
+    *u = clvis_exact_dp(cx, by, cy, bx);
+    *v = clvis_exact_dp(ax, cy, ay, cx);
+    *w = clvis_exact_dp(bx, ay, by, ax);
+}
+
 static inline clvis_tri_2d clvis_project_triangle_scaled(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
                                                          float k)
 {
@@ -116,18 +138,13 @@ static inline clvis_tri_2d clvis_project_triangle_scaled(clvis_ray_shear s, clvi
     p.u = p.cx * p.by - p.cy * p.bx;
     p.v = p.ax * p.cy - p.ay * p.cx;
     p.w = p.bx * p.ay - p.by * p.ax;
-#ifdef CLVIS_HAVE_DOUBLE
     /* An edge function that rounds to zero may have cancelled a non-zero value (a ray in the
-       plane of a triangle seen edge-on): recompute all three in double, where products of floats
-       are exact and the sign of their difference is right (Woop et al., section 3). A float
-       difference of rounded products never has the wrong sign, only a false zero, so every
+       plane of a triangle seen edge-on): recompute all three exactly rounded (Woop et al.,
+       section 3, do it in double; clvis_exact_dp gives the same bits with or without it). A
+       float difference of rounded products never has the wrong sign, only a false zero, so every
        edge function now has the sign of its exact value. */
-    if (p.u == 0.0f || p.v == 0.0f || p.w == 0.0f) {
-        p.u = (float)((double)p.cx * (double)p.by - (double)p.cy * (double)p.bx);
-        p.v = (float)((double)p.ax * (double)p.cy - (double)p.ay * (double)p.cx);
-        p.w = (float)((double)p.bx * (double)p.ay - (double)p.by * (double)p.ax);
-    }
-#endif
+    if (p.u == 0.0f || p.v == 0.0f || p.w == 0.0f)
+        clvis_exact_edges(&p.u, &p.v, &p.w, p.ax, p.ay, p.bx, p.by, p.cx, p.cy);
     p.unscale = 1.0f / k;
     return p;
 }
