@@ -19,18 +19,39 @@
 /* 2^k as a float, k in [-126, 127]. */
 static inline float clvis_pow2f(int k) { return clvis_bits_float((clvis_u32)(k + 127) << 23); }
 
-/* x 2^k for an x whose result is representable (or overflows): exact, in steps that never round
-   (going up, every step is below the result; going down, above it). */
+/* Leading zeros of a 32- and a 64-bit word (the width for 0). No loops here: Mesa's llvmpipe ends
+   every loop of a work-item after 65535 passes in all, and this runs inside the ray loops. */
+#ifdef __OPENCL_C_VERSION__
+static inline int clvis_clz32(clvis_u32 m) { return (int)clz(m); }
+static inline int clvis_clz64(clvis_u64 m) { return (int)clz(m); }
+#else
+static inline int clvis_clz32(clvis_u32 m) { return m ? __builtin_clz(m) : 32; }
+static inline int clvis_clz64(clvis_u64 m) { return m ? __builtin_clzll(m) : 64; }
+#endif
+
+/* x 2^k for an x >= 1 below 2^25 whose result is representable, or overflows or underflows to 0:
+   exact, in steps that never round (going up, every step is below the result; going down, above
+   it). Two steps each way reach every representable result (k in [-173, 127]); beyond, the result
+   is 0 or infinite whatever the last factor. */
 static inline float clvis_scale2f(float x, int k)
 {
-    while (k > 127) {
+    if (k > 127) {
         x = x * clvis_pow2f(127);
         k -= 127;
     }
-    while (k < -126) {
+    if (k > 127) {
+        x = x * clvis_pow2f(127);
+        k -= 127;
+    }
+    if (k < -126) {
         x = x * clvis_pow2f(-126);
         k += 126;
     }
+    if (k < -126) {
+        x = x * clvis_pow2f(-126);
+        k += 126;
+    }
+    k = k > 127 ? 127 : (k < -126 ? -126 : k);
     return x * clvis_pow2f(k);
 }
 
@@ -45,25 +66,16 @@ static inline clvis_float_parts clvis_parts(float v)
     p.s = b >> 31;
     p.m = ex == 0u ? (b & 0x7FFFFFu) : ((b & 0x7FFFFFu) | 0x800000u);
     p.e = ex == 0u ? -149 : (int)ex - 150;
-    while (p.m != 0u && p.m < 0x800000u) {
-        p.m <<= 1;
-        p.e -= 1;
+    if (p.m != 0u && p.m < 0x800000u) { /* a subnormal: bit 23 is the ninth from the top */
+        int shift = clvis_clz32(p.m) - 8;
+        p.m <<= shift;
+        p.e -= shift;
     }
     return p;
 }
 
 /* Bits of m (m > 0): 64 - count of leading zeros. */
-static inline int clvis_bit_length(clvis_u64 m)
-{
-    int n = 0;
-    for (int step = 32; step > 0; step >>= 1) {
-        if (m >> step) {
-            m >>= step;
-            n += step;
-        }
-    }
-    return n + 1;
-}
+static inline int clvis_bit_length(clvis_u64 m) { return 64 - clvis_clz64(m); }
 
 static inline int clvis_finite_bits(float v) { return (clvis_float_bits(v) & 0x7F800000u) != 0x7F800000u; }
 
