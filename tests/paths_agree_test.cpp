@@ -537,8 +537,7 @@ TEST_CASE("both paths are right on the bundled meshes from many cameras at large
     check_budget(tally, "bundled meshes, larger");
 }
 
-TEST_CASE("a plane face-on, samples on shared edges and vertices, no error, no hole",
-          "[device][agree][rusticl]")
+TEST_CASE("a plane face-on, samples on shared edges and vertices, no error, no hole", "[device][agree]")
 {
     Device device = Device::open();
     Tally tally;
@@ -568,7 +567,7 @@ TEST_CASE("a plane face-on, samples on shared edges and vertices, no error, no h
                 tally.explained);
 }
 
-TEST_CASE("a tessellated plane edge-on and at grazing angles, no errors", "[device][agree][rusticl]")
+TEST_CASE("a tessellated plane edge-on and at grazing angles, no errors", "[device][agree]")
 {
     Device device = Device::open();
     Tally tally;
