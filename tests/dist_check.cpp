@@ -2,6 +2,8 @@
 // meshes and a procedural scene, by both paths, must give the keys of one process rendering
 // everything, bit for bit: screen and scene on rank 0; frames on the rank of each view, every view
 // rendered by exactly one rank. Exits non-zero naming the first case that differs.
+#include "test_meshes.hpp"
+
 #include <clvis/clvis.hpp>
 #include <clvis/dist.hpp>
 #include <clvis/procedural.hpp>
@@ -17,12 +19,7 @@ using namespace clvis;
 
 namespace {
 
-struct Case {
-    std::string name;
-    Scene scene;
-    Camera camera;
-    int width, height;
-};
+using test::Case;
 
 std::vector<Case> cases()
 {

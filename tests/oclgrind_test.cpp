@@ -20,12 +20,7 @@ namespace {
 
 using test::triangle;
 
-struct Case {
-    std::string name;
-    Scene scene;
-    Camera camera;
-    int width, height;
-};
+using test::Case;
 
 std::vector<Case> cases()
 {

@@ -9,8 +9,17 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <string>
 
 namespace clvis::test {
+
+/// A named scene seen by one camera at one size: the unit of the suites that loop over cases.
+struct Case {
+    std::string name;
+    Scene scene;
+    Camera camera;
+    int width, height;
+};
 
 /// Two triangles per cell of an (n + 1) x (n + 1) vertex lattice laid out row by row, the
 /// diagonal alternating from cell to cell so that vertices meet 4 and 8 triangles.
