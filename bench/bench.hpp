@@ -20,6 +20,8 @@ struct BenchConfig {
     int passes = 1;      ///< --repeat: the whole sweep this many times, the spread reported across them
     int ref_threads = 2; ///< threads of the reference renderers (trace, raster and build)
     bool no_plot = false;
+    int views = 0;       ///< --views N: > 0 runs the multi-view workload (run_views_bench) instead
+    int view_size = 256; ///< --view-size: the views' width and height
 };
 
 /// The stopping rule of a run: exactly config.frames frames, or until each median is known to
@@ -36,5 +38,11 @@ void run_bench(const BenchConfig& config, const std::function<Device()>& open_de
 /// The ray-query workloads of bench_rays.cpp on `device` (config.quick, out, frames, ref_threads,
 /// no_plot): prints a table and writes bench-rays.json, bench-rays.csv and rays_mrays.png.
 void run_ray_bench(const BenchConfig& config, const Device& device);
+
+/// The multi-view workload of bench_views.cpp on `device`: config.views views of the bunny at
+/// config.view_size around it, clvis's batch and a loop of single renders on each path, Embree
+/// and llvmpipe view after view, in interleaved rounds (stop_rule(config)); prints a table and
+/// writes bench-views.json and bench-views.csv.
+void run_views_bench(const BenchConfig& config, const Device& device);
 
 } // namespace clvis::bench

@@ -5,6 +5,7 @@
 // rtcOccluded1 and their 16-wide forms. Writes bench-rays.json and bench-rays.csv.
 #include "bench.hpp"
 #include "bench_stats.hpp"
+#include "bench_views.hpp"
 #include "reference.hpp"
 
 #include <clvis/clvis.hpp>
@@ -168,19 +169,6 @@ std::optional<double> ratio(const std::vector<Timing>& ts, const std::string& cl
     return a->median() / b->median();
 }
 
-/// scenes/stanford-bunny.obj under the working directory, else in the source tree.
-std::string bunny_path()
-{
-    fs::path here = fs::path("scenes") / "stanford-bunny.obj";
-    std::error_code ec;
-    if (fs::is_regular_file(here, ec)) return here.string();
-#ifdef CLVIS_BENCH_SOURCE_DIR
-    return (fs::path(CLVIS_BENCH_SOURCE_DIR) / "scenes" / "stanford-bunny.obj").string();
-#else
-    return here.string();
-#endif
-}
-
 /// Runs bench/plot_rays.py on the JSON just written; a missing script or matplotlib is said, not fatal.
 void plot(const fs::path& out_dir)
 {
@@ -206,7 +194,7 @@ void run_ray_bench(const BenchConfig& config, const Device& device)
     int w = config.quick ? 480 : 960, h = config.quick ? 270 : 540, per_pixel = config.quick ? 4 : 8;
     std::size_t big = config.quick ? 100000 : 1000000, random_count = config.quick ? 200000 : 2000000;
     int repeats = config.frames > 0 ? config.frames : 3;
-    std::string bunny = bunny_path();
+    std::string bunny = bundled_mesh("stanford-bunny.obj");
 
     std::vector<Workload> workloads;
     workloads.push_back({"ao-bunny", load_scene({bunny}), {}});

@@ -42,8 +42,18 @@ void add_bench_command(CLI::App& app)
     cmd->add_flag("--rays", args->rays,
                   "the ray-query workloads instead: ambient occlusion rays (bunny, 1M sphere) and random rays "
                   "through a 1M soup, clvis closest/any against rtcIntersect1/16 and rtcOccluded1/16");
+    auto* views = cmd->add_option("--views", c.views,
+                                  "the multi-view workload instead: N views of the bunny around it (issue #16 uses 64), "
+                                  "clvis's batch (render_views) and a loop of single renders on each path against "
+                                  "Embree and llvmpipe doing the same views; frames per second and batch / kernels")
+                      ->check(CLI::Range(1, 4096));
+    cmd->add_option("--view-size", c.view_size, "width and height of the --views views (default 256)")
+        ->check(CLI::Range(1, 16384))
+        ->needs(views);
+    views->excludes(cmd->get_option("--rays"));
     cmd->callback([args] {
-        if (args->rays) bench::run_ray_bench(args->config, args->device.open());
+        if (args->config.views > 0) bench::run_views_bench(args->config, args->device.open());
+        else if (args->rays) bench::run_ray_bench(args->config, args->device.open());
         else bench::run_bench(args->config, [args] { return args->device.open(); });
     });
 }
