@@ -55,6 +55,20 @@ nb::object as_numpy(nb::handle obj, const ArraySpec& spec, const char* dtype)
     return np.attr("ascontiguousarray")(a, nb::arg("dtype") = dtype);
 }
 
+void bad_output(nb::handle obj, const std::string& what, const std::string& dtype, const std::string& shape)
+{
+    std::string got = "got " + text_of(obj.type().attr("__name__"));
+    if (nb::hasattr(obj, "dtype") && nb::hasattr(obj, "shape")) {
+        got = "got dtype " + text_of(obj.attr("dtype")) + ", shape " + text_of(obj.attr("shape"));
+        if (nb::hasattr(obj, "flags")) {
+            if (!nb::cast<bool>(obj.attr("flags").attr("c_contiguous"))) got += ", not C-contiguous";
+            if (!nb::cast<bool>(obj.attr("flags").attr("writeable"))) got += ", read-only";
+        }
+    }
+    throw Error(Error::Kind::InvalidArgument,
+                what + ": expected a writable C-contiguous " + dtype + " array of shape " + shape + ", " + got);
+}
+
 Vec3 to_vec3(const std::array<double, 3>& v) { return {v[0], v[1], v[2]}; }
 
 std::tuple<double, double, double> from_vec3(Vec3 v) { return {v.x, v.y, v.z}; }

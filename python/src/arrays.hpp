@@ -37,7 +37,36 @@ using HostArray = nb::ndarray<const T, nb::c_contig, nb::device::cpu>;
 template <class T>
 HostArray<T> as_host_array(nb::handle obj, const ArraySpec& spec, const char* dtype)
 {
+    // The common case first, without a call into NumPy: already of this dtype, C order, the shape.
+    HostArray<T> direct;
+    if (nb::try_cast(obj, direct, false) && int(direct.ndim()) == spec.ndim &&
+        (spec.cols == 0 || long(direct.shape(direct.ndim() - 1)) == spec.cols))
+        return direct;
     return nb::cast<HostArray<T>>(as_numpy(obj, spec, dtype), false);
+}
+
+template <class T>
+using OutArray = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
+
+/// Explains why `obj` is no writable C-contiguous array of `dtype` and `shape` (throws).
+[[noreturn]] void bad_output(nb::handle obj, const std::string& what, const std::string& dtype,
+                             const std::string& shape);
+
+/// The caller's output array `obj` (`what` names it in errors): writable, C-contiguous, of
+/// `dtype` ("uint32", "float32", "uint8") and exactly `shape`; written in place, never converted.
+template <class T>
+T* output_array(nb::handle obj, const std::string& what, const char* dtype, std::initializer_list<std::size_t> shape)
+{
+    OutArray<T> a;
+    bool ok = nb::try_cast(obj, a, false) && a.ndim() == shape.size();
+    std::size_t k = 0;
+    std::string text = "(";
+    for (const std::size_t n : shape) {
+        ok = ok && a.shape(k) == n;
+        text += std::to_string(n) + (++k == 1 && shape.size() == 1 ? ",)" : k == shape.size() ? ")" : ", ");
+    }
+    if (!ok) bad_output(obj, what, dtype, text);
+    return a.data();
 }
 
 /// A capsule that keeps a shared object alive for as long as an array refers to it.

@@ -44,16 +44,38 @@ struct PyRenderer {
 };
 
 /// A visibility buffer as Python sees it: host arrays shared with the NumPy arrays made from
-/// them (which keep them alive alone), and the device buffer for shading, which keeps its Device
-/// alive but not the Renderer that made it.
+/// them (which keep them alive alone), or the caller's own arrays (render(out=...)), and the
+/// device buffer for shading, which keeps its Device alive but not the Renderer that made it.
 struct PyVisibility {
+    /// Its size always; its arrays unless `ids_out` holds them.
     std::shared_ptr<HostVisibility> host = std::make_shared<HostVisibility>();
-    VisibilityBuffer device;         ///< empty for buffers made from arrays or files
+    nb::object ids_out, depth_out;   ///< the caller's (H, W) arrays read into (out=), or empty
+    VisibilityBuffer device;         ///< empty for buffers made from arrays, files or several devices
     std::optional<Camera> camera;    ///< the camera it was rendered with
     std::optional<Path> path;
+    std::optional<Region> region;    ///< the part of the camera's image it holds, when not all
     FrameTiming timing;
     double call_seconds = 0;         ///< render and read-back as timed in C++ (the overhead benchmark)
 };
+
+/// The host arrays of `vis`: its own, or a copy of the caller's (out=) into `scratch`. Needs the GIL.
+const HostVisibility& host_of(const PyVisibility& vis, HostVisibility& scratch);
+
+/// Where a read-back goes: the caller's arrays, or null (the Visibility's own).
+struct ReadTarget {
+    std::uint32_t* ids = nullptr;
+    float* depth = nullptr; ///< null when not read
+};
+
+/// The caller's arrays of render(out=...) kept in `vis`: an (H, W) uint32 ids array, or (ids, depth)
+/// with depth an (H, W) float32 array or None; each writable, C-contiguous, of the image's size.
+/// None: no target.
+ReadTarget bind_render_outputs(PyVisibility& vis, nb::handle out, int width, int height);
+
+/// The device buffer of a Visibility rendered whole by a Renderer, for `what` (resolve, shade,
+/// ambient occlusion): Error(InvalidArgument) naming `what` for one made otherwise, or of a region
+/// when `whole` (its pixels do not match its camera's image).
+const VisibilityBuffer& device_buffer(const PyVisibility& vis, const char* what, bool whole = true);
 
 /// Runs `f` with the GIL released and `lock` held (in that order).
 template <class F>
@@ -77,5 +99,12 @@ void bind_referee(nb::module_& m);
 void bind_ray_queries(nb::class_<PyRenderer>& r);
 void bind_outputs(nb::class_<PyRenderer>& r);
 void bind_image(nb::module_& m);
+/// clvis.RayQuery (ray_query.cpp) and clvis.MultiDeviceRenderer (multi_device.cpp).
+void bind_ray_query(nb::module_& m);
+void bind_multi_device(nb::module_& m);
+/// The RenderOptions of a Renderer's keyword arguments, named as the command line names them.
+RenderOptions render_options(int tile, const std::string& cull, int leaf_size, int sah_bins,
+                             const std::string& bvh_update, const std::string& raster_atomics,
+                             const std::string& coverage);
 
 } // namespace clvis::python

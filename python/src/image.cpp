@@ -24,15 +24,13 @@ nb::ndarray<nb::numpy, const std::uint8_t> shade_buffer(PyRenderer& r, const PyV
                                                        std::optional<Camera> camera, const std::string& mode,
                                                        std::array<double, 3> light)
 {
-    if (vis.device.empty())
-        throw Error(Error::Kind::InvalidArgument, "shade: this Visibility has no device buffer (made from arrays or a file)");
-    if (!camera && !vis.camera) throw Error(Error::Kind::InvalidArgument, "shade: no camera given");
+    const VisibilityBuffer& buffer = device_buffer(vis, "shade");
     ShadeOptions o;
     o.mode = parse_choice<ShadeMode>(mode, "shade: mode",
                                      {{"lambert", ShadeMode::Lambert}, {"depth", ShadeMode::Depth}, {"ids", ShadeMode::Ids}});
     o.light_direction = to_vec3(light);
     const Camera& cam = camera ? *camera : *vis.camera;
-    return image_array(unlocked(r.lock, [&] { return shade(r.renderer, vis.device, cam, o); }));
+    return image_array(unlocked(r.lock, [&] { return shade(r.renderer, buffer, cam, o); }));
 }
 
 #if CLVIS_WITH_IMAGE_IO
@@ -69,16 +67,20 @@ void bind_files(nb::module_& m)
     m.def(
         "write_ids",
         [](const std::filesystem::path& path, const PyVisibility& vis) {
+            HostVisibility scratch;
+            const HostVisibility& host = host_of(vis, scratch);
             nb::gil_scoped_release nogil;
-            write_ids(path.string(), *vis.host);
+            write_ids(path.string(), host);
         },
         nb::arg("path"), nb::arg("vis"), "Writes the ids as one UINT32 channel 'id' (.tif, .tiff or .exr).");
     m.def(
         "write_depth",
         [](const std::filesystem::path& path, const PyVisibility& vis) {
-            if (vis.host->depth.empty()) throw Error(Error::Kind::InvalidArgument, "write_depth: this Visibility has no depths");
+            HostVisibility scratch;
+            const HostVisibility& host = host_of(vis, scratch);
+            if (host.depth.empty()) throw Error(Error::Kind::InvalidArgument, "write_depth: this Visibility has no depths");
             nb::gil_scoped_release nogil;
-            write_depth(path.string(), *vis.host);
+            write_depth(path.string(), host);
         },
         nb::arg("path"), nb::arg("vis"), "Writes the depths as one FLOAT channel 'Z' (.exr).");
     m.def(

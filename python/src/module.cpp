@@ -16,6 +16,8 @@ NB_MODULE(_clvis, m)
     bind_scene(m);
     bind_camera(m);
     bind_render(m);
+    bind_ray_query(m);
+    bind_multi_device(m);
     bind_referee(m);
     bind_image(m);
 }

@@ -11,14 +11,6 @@ namespace clvis::python {
 
 namespace {
 
-const VisibilityBuffer& device_buffer(const PyVisibility& vis, const char* what)
-{
-    if (vis.device.empty())
-        throw Error(Error::Kind::InvalidArgument,
-                    std::string(what) + ": the Visibility must come from Renderer.render (it has no device buffer)");
-    return vis.device;
-}
-
 Attribute attribute_named(const std::string& name)
 {
     return parse_choice<Attribute>(name, "resolve: attribute",
@@ -29,7 +21,6 @@ Attribute attribute_named(const std::string& name)
 nb::dict resolve_attributes(PyRenderer& r, const PyVisibility& vis, const std::vector<std::string>& names)
 {
     const VisibilityBuffer& buffer = device_buffer(vis, "resolve");
-    if (!vis.camera) throw Error(Error::Kind::InvalidArgument, "resolve: the Visibility has no camera");
     AttributeRequest request;
     std::vector<Attribute> wanted;
     for (const std::string& name : names) {
@@ -63,7 +54,7 @@ nb::object visible_ids(PyRenderer& r, nb::handle views)
     } else {
         for (nb::handle v : views) list.push_back(&nb::cast<const PyVisibility&>(v));
     }
-    for (const PyVisibility* v : list) device_buffer(*v, "visible_ids");
+    for (const PyVisibility* v : list) device_buffer(*v, "visible_ids", false);
     std::vector<std::uint32_t> ids;
     unlocked(r.lock, [&] {
         VisibleSet set(r.renderer.device(), r.triangles);

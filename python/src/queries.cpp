@@ -107,13 +107,11 @@ nb::dict count_intersections(PyRenderer& r, nb::handle origins, nb::handle direc
 
 nb::object ambient_occlusion(PyRenderer& r, const PyVisibility& vis, int rays, double distance, std::uint64_t seed)
 {
-    if (vis.device.empty() || !vis.camera)
-        throw Error(Error::Kind::InvalidArgument,
-                    "ambient_occlusion: the Visibility must come from Renderer.render (it has no device buffer)");
+    const VisibilityBuffer& buffer = device_buffer(vis, "ambient_occlusion");
     const AoOptions options{rays, float(distance), seed};
     PixelRays ao = unlocked(r.lock, [&] {
         if (!r.query) r.query = std::make_unique<RayQuery>(r.renderer);
-        return r.query->ambient_occlusion(vis.device, *vis.camera, options);
+        return r.query->ambient_occlusion(buffer, *vis.camera, options);
     });
     return owned_array(std::move(ao.value), {std::size_t(ao.height), std::size_t(ao.width)});
 }

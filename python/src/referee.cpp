@@ -104,11 +104,14 @@ void bind_referee(nb::module_& m)
             "compare",
             [](const PyReferee& r, const PyVisibility& a, const PyVisibility& b, bool differing_only,
                std::size_t max_reported) {
+                HostVisibility scratch_a, scratch_b;
+                const HostVisibility& ha = host_of(a, scratch_a);
+                const HostVisibility& hb = host_of(b, scratch_b);
                 nb::gil_scoped_release nogil;
                 CompareOptions o;
                 o.differing_only = differing_only;
                 o.max_reported = max_reported;
-                return r.referee.compare(*a.host, *b.host, o);
+                return r.referee.compare(ha, hb, o);
             },
             nb::arg("a"), nb::arg("b"), nb::kw_only(), nb::arg("differing_only") = false, nb::arg("max_reported") = 20,
             "Compares two buffers of this size pixel by pixel, judging every pixel of both, ids and depths\n"
@@ -117,10 +120,12 @@ void bind_referee(nb::module_& m)
         .def(
             "check",
             [](const PyReferee& r, const PyVisibility& a, std::size_t max_reported) {
+                HostVisibility scratch;
+                const HostVisibility& ha = host_of(a, scratch);
                 nb::gil_scoped_release nogil;
                 CompareOptions o;
                 o.max_reported = max_reported;
-                return r.referee.check(*a.host, o);
+                return r.referee.check(ha, o);
             },
             nb::arg("a"), nb::kw_only(), nb::arg("max_reported") = 20,
             "Judges every pixel of one buffer, ids and depths, against the reference answer.")

@@ -4,6 +4,7 @@
 #include "arrays.hpp"
 
 #include <nanobind/stl/optional.h>
+#include <nanobind/stl/tuple.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
@@ -17,16 +18,17 @@ Path path_named(const std::string& name)
     return parse_choice<Path>(name, "path", {{"raster", Path::Raster}, {"ray", Path::Ray}, {"brute", Path::Brute}});
 }
 
-namespace {
-
 RenderOptions render_options(int tile, const std::string& cull, int leaf_size, int sah_bins,
-                             const std::string& bvh_update, const std::string& raster_atomics)
+                             const std::string& bvh_update, const std::string& raster_atomics,
+                             const std::string& coverage)
 {
     RenderOptions o;
     o.tile_size = tile;
     o.raster_atomics = parse_choice<RasterAtomics>(
         raster_atomics, "raster_atomics", {{"auto", RasterAtomics::Auto}, {"on", RasterAtomics::On}, {"off", RasterAtomics::Off}});
     o.cull = parse_choice<Cull>(cull, "cull", {{"none", Cull::None}, {"back", Cull::Back}, {"front", Cull::Front}});
+    o.coverage = parse_choice<Coverage>(coverage, "coverage",
+                                        {{"watertight", Coverage::Watertight}, {"raster-rule", Coverage::RasterRule}});
     o.bvh.max_leaf_size = leaf_size;
     o.bvh.sah_bins = sah_bins;
     o.bvh.update = parse_choice<BvhUpdate>(bvh_update, "bvh_update",
@@ -34,20 +36,105 @@ RenderOptions render_options(int tile, const std::string& cull, int leaf_size, i
     return o;
 }
 
-/// Renders and reads back once, the GIL released and the renderer locked.
-PyVisibility render(PyRenderer& r, const Camera& camera, int width, int height, const std::string& path_name)
+const HostVisibility& host_of(const PyVisibility& vis, HostVisibility& scratch)
 {
-    PyVisibility out;
-    out.path = path_named(path_name);
-    out.camera = camera;
+    if (!vis.ids_out.is_valid()) return *vis.host;
+    scratch.width = vis.host->width;
+    scratch.height = vis.host->height;
+    const std::size_t n = std::size_t(scratch.width) * std::size_t(scratch.height);
+    const auto* ids = nb::cast<HostArray<std::uint32_t>>(vis.ids_out, false).data();
+    scratch.ids.assign(ids, ids + n);
+    scratch.depth.clear();
+    if (vis.depth_out.is_valid()) {
+        const auto* depth = nb::cast<HostArray<float>>(vis.depth_out, false).data();
+        scratch.depth.assign(depth, depth + n);
+    }
+    return scratch;
+}
+
+const VisibilityBuffer& device_buffer(const PyVisibility& vis, const char* what, bool whole)
+{
+    if (vis.device.empty() || !vis.camera)
+        throw Error(Error::Kind::InvalidArgument,
+                    std::string(what) + ": the Visibility must come from Renderer.render (it has no device buffer)");
+    if (whole && vis.region)
+        throw Error(Error::Kind::InvalidArgument,
+                    std::string(what) + ": the Visibility holds a region of its camera's image; render it whole");
+    return vis.device;
+}
+
+namespace {
+
+/// A Region from (x, y, width, height).
+Region region_of(nb::handle region)
+{
+    const char* what = "render: region";
+    std::vector<int> v;
+    if (!nb::try_cast(region, v) || v.size() != 4)
+        throw Error(Error::Kind::InvalidArgument,
+                    std::string(what) + ": expected (x, y, width, height) integers, got " + text_of(region));
+    if (v[2] <= 0 || v[3] <= 0)
+        throw Error(Error::Kind::InvalidArgument, std::string(what) + ": width and height must be positive, got " +
+                                                      text_of(region));
+    return Region{v[0], v[1], v[2], v[3]};
+}
+
+} // namespace
+
+ReadTarget bind_render_outputs(PyVisibility& vis, nb::handle out, int width, int height)
+{
+    ReadTarget target;
+    if (out.is_none()) return target;
+    nb::handle ids = out, depth;
+    if (nb::isinstance<nb::tuple>(out) || nb::isinstance<nb::list>(out)) {
+        if (nb::len(out) != 2)
+            throw Error(Error::Kind::InvalidArgument,
+                        "render: out: expected an ids array or (ids, depth), got " + std::to_string(nb::len(out)) + " items");
+        ids = out[0];
+        depth = out[1];
+    }
+    const std::size_t h = std::size_t(height > 0 ? height : 0), w = std::size_t(width > 0 ? width : 0);
+    target.ids = output_array<std::uint32_t>(ids, "render: out ids", "uint32", {h, w});
+    vis.ids_out = nb::borrow(ids);
+    if (depth.is_valid() && !depth.is_none()) {
+        target.depth = output_array<float>(depth, "render: out depth", "float32", {h, w});
+        vis.depth_out = nb::borrow(depth);
+    }
+    return target;
+}
+
+namespace {
+
+/// Renders (all of the image or `region`) and reads back once, into the Visibility's own arrays
+/// or into the caller's (`out`), the GIL released and the renderer locked.
+PyVisibility render(PyRenderer& r, const Camera& camera, int width, int height, const std::string& path_name,
+                    nb::handle region, nb::handle out)
+{
+    PyVisibility vis;
+    vis.path = path_named(path_name);
+    vis.camera = camera;
+    if (!region.is_none()) vis.region = region_of(region);
+    const int w = vis.region ? vis.region->width : width, h = vis.region ? vis.region->height : height;
+    const ReadTarget target = bind_render_outputs(vis, out, w, h);
     unlocked(r.lock, [&] {
         const auto start = std::chrono::steady_clock::now();
-        out.device = r.renderer.render(camera, width, height, *out.path);
-        *out.host = out.device.read();
-        out.call_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        out.timing = r.renderer.last_frame();
+        if (vis.region) {
+            vis.device = VisibilityBuffer(r.renderer.device(), w, h);
+            r.renderer.render(camera, width, height, *vis.region, *vis.path, vis.device);
+        } else {
+            vis.device = r.renderer.render(camera, width, height, *vis.path);
+        }
+        if (target.ids) {
+            vis.device.read(target.ids, target.depth);
+        } else {
+            vis.device.read(*vis.host);
+        }
+        vis.call_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        vis.timing = r.renderer.last_frame();
     });
-    return out;
+    vis.host->width = w;
+    vis.host->height = h;
+    return vis;
 }
 
 void bind_timing(nb::module_& m)
@@ -112,10 +199,12 @@ void bind_visibility(nb::module_& m)
         .def_prop_ro("width", [](const PyVisibility& v) { return v.host->width; })
         .def_prop_ro("height", [](const PyVisibility& v) { return v.host->height; })
         .def_prop_ro("ids", [](const PyVisibility& v) {
+            if (v.ids_out.is_valid()) return v.ids_out;
             const HostVisibility& h = *v.host;
             return nb::cast(numpy_view(h.ids.data(), {std::size_t(h.height), std::size_t(h.width)}, keep_alive(v.host)));
         }, "(H, W) uint32, read-only.")
         .def_prop_ro("depth", [](const PyVisibility& v) -> nb::object {
+            if (v.ids_out.is_valid()) return v.depth_out.is_valid() ? v.depth_out : nb::none();
             const HostVisibility& h = *v.host;
             if (h.depth.empty()) return nb::none();
             return nb::cast(numpy_view(h.depth.data(), {std::size_t(h.height), std::size_t(h.width)}, keep_alive(v.host)));
@@ -124,6 +213,11 @@ void bind_visibility(nb::module_& m)
         .def_prop_ro("path", [](const PyVisibility& v) {
             return v.path ? std::optional<std::string>(to_string(*v.path)) : std::nullopt;
         }, "'raster', 'ray' or 'brute'; None when made from arrays or a file.")
+        .def_prop_ro("region", [](const PyVisibility& v) {
+            return v.region ? std::optional<std::tuple<int, int, int, int>>(
+                                  std::make_tuple(v.region->x, v.region->y, v.region->width, v.region->height))
+                            : std::nullopt;
+        }, "(x, y, width, height) of the camera's image that it holds, or None for the whole image.")
         .def_prop_ro("timing", [](const PyVisibility& v) { return v.timing; })
         .def_prop_ro("_call_seconds", [](const PyVisibility& v) { return v.call_seconds; },
                      "Seconds of the C++ render and read-back inside render(): bench/python_overhead.py.")
@@ -138,7 +232,9 @@ const char* renderer_doc =
     "rasterization ('raster') or by ray casting through a BVH ('ray'); 'brute' tests every triangle.\n"
     "Options as the command line names them: tile (raster tile edge, a power of two; 0 the default),\n"
     "cull ('none', 'back', 'front'), leaf_size and sah_bins (the BVH), bvh_update ('refit', 'rebuild'),\n"
-    "raster_atomics ('auto', 'on': 64-bit atomic depth test, 'off': tile ownership; the same keys).\n"
+    "raster_atomics ('auto', 'on': 64-bit atomic depth test, 'off': tile ownership; the same keys),\n"
+    "coverage (the ray paths' inside test: 'watertight', or 'raster-rule': the raster path's own\n"
+    "rule, so that ray and raster buffers are bit-identical).\n"
     "Methods release the GIL while the device works; one Renderer serves one call at a time.\n\n"
     "Example:\n    renderer = clvis.Renderer(clvis.Device('cpu'), scene)\n"
     "    vis = renderer.render(camera, 640, 360, path='ray')";
@@ -153,15 +249,28 @@ void bind_render(nb::module_& m)
     r.def(
             "__init__",
             [](PyRenderer* self, const Device& device, PyScene& scene, int tile, const std::string& cull,
-               int leaf_size, int sah_bins, const std::string& bvh_update, const std::string& raster_atomics) {
-                const RenderOptions o = render_options(tile, cull, leaf_size, sah_bins, bvh_update, raster_atomics);
+               int leaf_size, int sah_bins, const std::string& bvh_update, const std::string& raster_atomics,
+               const std::string& coverage) {
+                const RenderOptions o = render_options(tile, cull, leaf_size, sah_bins, bvh_update, raster_atomics, coverage);
                 unlocked(scene.lock, [&] { new (self) PyRenderer{Renderer(device, scene.scene, o), {}, std::uint32_t(scene.scene.triangle_count()), nullptr}; });
             },
             nb::arg("device"), nb::arg("scene"), nb::kw_only(), nb::arg("tile") = 0, nb::arg("cull") = "none",
             nb::arg("leaf_size") = 4, nb::arg("sah_bins") = 16, nb::arg("bvh_update") = "refit",
-            nb::arg("raster_atomics") = "auto")
-        .def("render", &render, nb::arg("camera"), nb::arg("width"), nb::arg("height"), nb::arg("path") = "raster",
-             "Renders a width x height Visibility by `path` ('raster', 'ray' or 'brute').")
+            nb::arg("raster_atomics") = "auto", nb::arg("coverage") = "watertight")
+        .def("render", &render,
+             nb::sig("def render(self, camera: Camera, width: int, height: int, path: str = 'raster', *, "
+                     "region: tuple[int, int, int, int] | None = None, "
+                     "out: numpy.typing.NDArray[numpy.uint32] | tuple[numpy.typing.NDArray[numpy.uint32], "
+                     "numpy.typing.NDArray[numpy.float32] | None] | None = None) -> Visibility"),
+             nb::arg("camera"), nb::arg("width"), nb::arg("height"), nb::arg("path") = "raster", nb::kw_only(),
+             nb::arg("region") = nb::none(), nb::arg("out") = nb::none(),
+             "Renders a width x height Visibility by `path` ('raster', 'ray' or 'brute').\n\n"
+             "region=(x, y, w, h) renders only that rectangle of the image (row 0 on top) into a w x h\n"
+             "Visibility, bit-identical to those pixels of the whole render. out=ids or out=(ids, depth)\n"
+             "reads back into the caller's writable C-contiguous (H, W) uint32 and float32 arrays (depth\n"
+             "may be None: not read); the Visibility's ids and depth are then those arrays.\n\n"
+             "Example:\n    ids = np.empty((360, 640), np.uint32)\n    depth = np.empty((360, 640), np.float32)\n"
+             "    for camera in cameras:\n        renderer.render(camera, 640, 360, out=(ids, depth))")
         .def(
             "update",
             [](PyRenderer& r, PyScene& s) {

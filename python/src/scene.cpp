@@ -1,10 +1,12 @@
 // Scenes from Python: meshes from NumPy arrays (one conversion where a dtype or layout differs,
-// then copied into the scene), from files (clvis.load_mesh, clvis.load_scene) or procedural;
-// bounds; positions and transforms changed for Renderer.update.
+// then copied into the scene), from files (clvis.load_mesh, clvis.load_scene, glTF instances
+// included) or procedural; prototypes and their instances; bounds; positions and transforms
+// changed for Renderer.update.
 #include "arrays.hpp"
 
 #include <nanobind/stl/array.h>
 #include <nanobind/stl/filesystem.h>
+#include <nanobind/stl/optional.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/tuple.h>
 #include <nanobind/stl/vector.h>
@@ -89,6 +91,19 @@ Mat4 transform_of(nb::handle transform)
     return transform.is_none() ? Mat4::identity() : to_mat4(transform, "Scene: transform");
 }
 
+/// A MeshData from (V, 3) positions and (T, 3) indices (converted once where needed), for `what`.
+MeshData mesh_of_arrays(nb::handle positions, nb::handle indices, std::string name, const std::string& what)
+{
+    const std::string pn = what + ": positions", in = what + ": indices";
+    auto p = as_host_array<float>(positions, {pn.c_str(), "(V, 3)", 2, 3, false}, "float32");
+    auto i = as_host_array<std::uint32_t>(indices, {in.c_str(), "(T, 3)", 2, 3, true}, "uint32");
+    MeshData mesh;
+    mesh.name = std::move(name);
+    mesh.positions.assign(p.data(), p.data() + p.size());
+    mesh.indices.assign(i.data(), i.data() + i.size());
+    return mesh;
+}
+
 std::size_t add_arrays(PyScene& s, nb::handle positions, nb::handle indices, nb::handle transform,
                        std::string name)
 {
@@ -100,8 +115,76 @@ std::size_t add_arrays(PyScene& s, nb::handle positions, nb::handle indices, nb:
     });
 }
 
+/// The item's prototype, or None for a plain mesh; Error(InvalidArgument) for no such item.
+std::optional<std::size_t> prototype_of(PyScene& s, std::size_t item)
+{
+    return unlocked(s.lock, [&]() -> std::optional<std::size_t> {
+        if (item >= s.scene.meshes().size())
+            throw Error(Error::Kind::InvalidArgument, "Scene.prototype_of: no item " + std::to_string(item) + " (the scene has " +
+                                                          std::to_string(s.scene.meshes().size()) + ")");
+        const std::size_t p = s.scene.meshes()[item].prototype;
+        return p == Scene::no_prototype ? std::nullopt : std::optional<std::size_t>(p);
+    });
+}
+
+void bind_instances(nb::class_<PyScene>& c)
+{
+    c.def(
+        "add_prototype",
+        [](PyScene& s, nb::handle positions, nb::handle indices, std::string name) {
+            MeshData mesh = mesh_of_arrays(positions, indices, std::move(name), "Scene.add_prototype");
+            return unlocked(s.lock, [&] { return s.scene.add_prototype(std::move(mesh)); });
+        },
+        nb::sig("def add_prototype(self, positions: numpy.typing.ArrayLike, indices: numpy.typing.ArrayLike, "
+                "name: str = '') -> int"),
+        nb::arg("positions"), nb::arg("indices"), nb::arg("name") = "",
+        "Stores a mesh once for instances (arrays as add_mesh takes them, copied) and returns its index\n"
+        "among the prototypes. A prototype has no triangle ids of its own: each add_instance adds its\n"
+        "triangles as the next item, as if the mesh were added with that transform.\n\n"
+        "Example:\n    tree = scene.add_prototype(positions, indices)\n"
+        "    for x in range(10):\n        scene.add_instance(tree, np.diag([1.0, 1, 1, 1]) + np.eye(4, k=3) * x)");
+    c.def(
+        "add_prototype",
+        [](PyScene& s, MeshData mesh) { return unlocked(s.lock, [&] { return s.scene.add_prototype(std::move(mesh)); }); },
+        nb::arg("mesh"), "Stores a Mesh (copied) as a prototype and returns its index.");
+    c.def(
+        "add_instance",
+        [](PyScene& s, std::size_t prototype, nb::handle transform) {
+            const Mat4 m = transform_of(transform);
+            return unlocked(s.lock, [&] { return s.scene.add_instance(prototype, m); });
+        },
+        nb::sig("def add_instance(self, prototype: int, transform: numpy.typing.ArrayLike | None = None) -> int"),
+        nb::arg("prototype"), nb::arg("transform") = nb::none(),
+        "Adds an instance of prototype `prototype` with a (4, 4) object-to-world transform as the next\n"
+        "item and returns its item index (for set_transform, mesh_of). Its ids follow the items before it.");
+    c.def_prop_ro("prototype_count", [](PyScene& s) { return unlocked(s.lock, [&] { return s.scene.prototypes().size(); }); },
+                  "Prototypes stored (add_prototype, or a glTF mesh used by several nodes).");
+    c.def("prototype_of", &prototype_of, nb::arg("item"),
+          "The prototype that item `item` instances, or None for a plain mesh.");
+    c.def(
+        "transform",
+        [](PyScene& s, std::size_t item) {
+            const Mat4 m = unlocked(s.lock, [&] {
+                if (item >= s.scene.meshes().size())
+                    throw Error(Error::Kind::InvalidArgument, "Scene.transform: no item " + std::to_string(item));
+                return s.scene.meshes()[item].transform;
+            });
+            return from_mat4(m);
+        },
+        nb::arg("item"), "The (4, 4) object-to-world transform of item `item` (a mesh or an instance).");
+}
+
 void bind_scene_methods(nb::class_<PyScene>& c)
 {
+    // The Mesh overload first: add_mesh(mesh, transform) with the transform positional reaches it.
+    c.def(
+        "add_mesh",
+        [](PyScene& s, MeshData mesh, nb::handle transform) {
+            const Mat4 m = transform_of(transform);
+            return unlocked(s.lock, [&] { return s.scene.add_mesh(std::move(mesh), m); });
+        },
+        nb::sig("def add_mesh(self, mesh: Mesh, transform: numpy.typing.ArrayLike | None = None) -> int"),
+        nb::arg("mesh"), nb::arg("transform") = nb::none(), "Adds a Mesh (copied) and returns its index.");
     c.def("add_mesh", &add_arrays,
           nb::sig("def add_mesh(self, positions: numpy.typing.ArrayLike, indices: numpy.typing.ArrayLike, "
                   "transform: numpy.typing.ArrayLike | None = None, name: str = '') -> int"),
@@ -113,14 +196,6 @@ void bind_scene_methods(nb::class_<PyScene>& c)
           "`transform` is a (4, 4) object-to-world matrix applied to column vectors. The arrays\n"
           "are copied: changing them later does not change the scene.\n\n"
           "Example:\n    scene.add_mesh(np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]]), [[0, 1, 2]])");
-    c.def(
-        "add_mesh",
-        [](PyScene& s, MeshData mesh, nb::handle transform) {
-            const Mat4 m = transform_of(transform);
-            return unlocked(s.lock, [&] { return s.scene.add_mesh(std::move(mesh), m); });
-        },
-        nb::sig("def add_mesh(self, mesh: Mesh, transform: numpy.typing.ArrayLike | None = None) -> int"),
-        nb::arg("mesh"), nb::arg("transform") = nb::none(), "Adds a Mesh (copied) and returns its index.");
     c.def(
         "set_positions",
         [](PyScene& s, std::size_t mesh, nb::handle positions) {
@@ -152,6 +227,7 @@ void bind_scene(nb::module_& m)
                           "    camera = clvis.Camera.framing(scene.bounds())");
     c.def(nb::init<>());
     bind_scene_methods(c);
+    bind_instances(c);
     c.def("bounds", [](PyScene& s) { return unlocked(s.lock, [&] { return s.scene.bounds(); }); },
           "World-space bounds of every vertex (transforms applied).");
     c.def_prop_ro("triangle_count", [](PyScene& s) { return unlocked(s.lock, [&] { return s.scene.triangle_count(); }); });
