@@ -2,12 +2,15 @@
 """The cost of a render call from Python over the same call from C++.
 
 Each Renderer.render() times its own C++ work (render + the one read-back) inside the call
-(Visibility._call_seconds); the Python side times the whole call plus the access to both NumPy
-views. Their difference, call by call, is what the Python layer adds (argument conversion, the
-GIL released and taken back, the lock, the result and its views), free of the device's own jitter,
-which is large on a shared CPU. Warm calls only; the device is named.
+(Visibility._call_seconds, and _call_span_ns: when it began and ended on perf_counter_ns's clock);
+the Python side times the whole call plus the access to both arrays. Their difference, call by
+call, is what the Python layer adds (argument conversion, the GIL released and taken back, the
+lock, the result and its arrays), free of the device's own jitter, which is large on a shared CPU.
+It is split into entry (call to the C++ start), exit (C++ end to the return) and arrays (vis.ids,
+vis.depth). Warm calls only; the device is named. Two modes: new result arrays per call, and
+out=(ids, depth), arrays the caller made once.
 
-The last column is a control: the same access to both views of a finished result, after the
+The last column is a control: the same access to both arrays of a finished result, after the
 thread slept as long as a frame. Caches grow cold while the device works (on a loaded CPU most of
 all), and whatever runs first after a long call pays for it, in Python or in C++.
 
@@ -18,21 +21,33 @@ import argparse
 import statistics
 import time
 
+import numpy as np
+
 import clvis
 
 
-def measure(renderer, camera, width, height, path, calls):
+def measure(renderer, camera, width, height, path, calls, out):
     renderer.render(camera, width, height, path=path)  # kernels built, BVH built
-    whole, inner = [], []
+    whole, inner, entry, exit_, arrays = [], [], [], [], []
     for _ in range(calls):
-        start = time.perf_counter()
-        vis = renderer.render(camera, width, height, path=path)
+        start = time.perf_counter_ns()
+        vis = renderer.render(camera, width, height, path=path, out=out)
+        returned = time.perf_counter_ns()
         vis.ids, vis.depth
-        whole.append(time.perf_counter() - start)
+        end = time.perf_counter_ns()
+        whole.append((end - start) * 1e-9)
         inner.append(vis._call_seconds)
+        span = getattr(vis, "_call_span_ns", None)  # absent before the breakdown was added
+        if span:
+            entry.append((span[0] - start) * 1e-9)
+            exit_.append((returned - span[1]) * 1e-9)
+        arrays.append((end - returned) * 1e-9)
         del vis  # freeing the result (host arrays, device buffer) is not part of the call
     extra = sorted(w - i for w, i in zip(whole, inner))
-    return statistics.median(whole), statistics.median(inner), statistics.median(extra), extra[int(0.9 * calls)]
+    med = statistics.median
+    return dict(whole=med(whole), inner=med(inner), extra=med(extra), p90=extra[int(0.9 * calls)],
+                entry=med(entry) if entry else float("nan"), exit=med(exit_) if exit_ else float("nan"),
+                arrays=med(arrays))
 
 
 def views_after_sleep(vis, seconds, calls):
@@ -58,15 +73,18 @@ def main():
     camera = clvis.Camera.framing(scene.bounds())
     renderer = clvis.Renderer(device, scene)
     print(f"device: {device.name}; scene: UV sphere, {scene.triangle_count} triangles; {args.calls} warm calls each")
-    print(f"{'path':6} {'size':>9} {'python us':>10} {'c++ us':>10} {'overhead us':>12} {'p90 us':>8} "
-          f"{'views after sleep us':>21}")
+    print(f"{'path':6} {'size':>9} {'mode':>6} {'python us':>10} {'c++ us':>10} {'overhead us':>12} {'p90 us':>8} "
+          f"{'entry':>6} {'exit':>6} {'arrays':>6} {'arrays after sleep us':>22}")
     for path in ("raster", "ray"):
         for width, height in ((64, 64), (640, 360)):
-            whole, inner, extra, p90 = measure(renderer, camera, width, height, path, args.calls)
-            control = views_after_sleep(renderer.render(camera, width, height, path=path), inner, args.calls // 10)
-            print(f"{path:6} {width:>4}x{height:<4} {whole * 1e6:10.1f} {inner * 1e6:10.1f} {extra * 1e6:12.1f} "
-                  f"{p90 * 1e6:8.1f} {control * 1e6:21.1f}")
-
+            outs = {"new": None, "out=": (np.empty((height, width), np.uint32), np.empty((height, width), np.float32))}
+            for mode, out in outs.items():
+                m = measure(renderer, camera, width, height, path, args.calls, out)
+                control = views_after_sleep(renderer.render(camera, width, height, path=path), m["inner"],
+                                            args.calls // 10)
+                print(f"{path:6} {width:>4}x{height:<4} {mode:>6} {m['whole'] * 1e6:10.1f} {m['inner'] * 1e6:10.1f} "
+                      f"{m['extra'] * 1e6:12.1f} {m['p90'] * 1e6:8.1f} {m['entry'] * 1e6:6.1f} {m['exit'] * 1e6:6.1f} "
+                      f"{m['arrays'] * 1e6:6.1f} {control * 1e6:22.1f}")
 
 if __name__ == "__main__":
     main()

@@ -55,6 +55,25 @@ nb::object as_numpy(nb::handle obj, const ArraySpec& spec, const char* dtype)
     return np.attr("ascontiguousarray")(a, nb::arg("dtype") = dtype);
 }
 
+void* writable_data(nb::handle obj, char format, std::size_t itemsize, std::initializer_list<std::size_t> shape)
+{
+    if (!PyObject_CheckBuffer(obj.ptr())) return nullptr;
+    Py_buffer view;
+    if (PyObject_GetBuffer(obj.ptr(), &view, PyBUF_WRITABLE | PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) != 0) {
+        PyErr_Clear();
+        return nullptr;
+    }
+    const char* f = view.format ? view.format : "B";
+    if (*f == '@' || *f == '=' || *f == '<') ++f;
+    bool ok = f[0] == format && f[1] == 0 && std::size_t(view.itemsize) == itemsize &&
+              std::size_t(view.ndim) == shape.size();
+    int k = 0;
+    for (const std::size_t n : shape) ok = ok && std::size_t(view.shape[k++]) == n;
+    void* data = ok ? view.buf : nullptr;
+    PyBuffer_Release(&view);
+    return data;
+}
+
 void bad_output(nb::handle obj, const std::string& what, const std::string& dtype, const std::string& shape)
 {
     std::string got = "got " + text_of(obj.type().attr("__name__"));

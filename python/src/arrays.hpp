@@ -52,21 +52,27 @@ using OutArray = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
 [[noreturn]] void bad_output(nb::handle obj, const std::string& what, const std::string& dtype,
                              const std::string& shape);
 
+/// The buffer-protocol format character of T.
+template <class T> constexpr char format_of();
+template <> constexpr char format_of<std::uint8_t>() { return 'B'; }
+template <> constexpr char format_of<std::uint32_t>() { return 'I'; }
+template <> constexpr char format_of<float>() { return 'f'; }
+
+/// The data of `obj` when it is a writable C-contiguous array of T of exactly `shape`, else null.
+/// Through the buffer protocol, the pointer stays valid while the caller's array lives.
+void* writable_data(nb::handle obj, char format, std::size_t itemsize, std::initializer_list<std::size_t> shape);
+
 /// The caller's output array `obj` (`what` names it in errors): writable, C-contiguous, of
 /// `dtype` ("uint32", "float32", "uint8") and exactly `shape`; written in place, never converted.
 template <class T>
 T* output_array(nb::handle obj, const std::string& what, const char* dtype, std::initializer_list<std::size_t> shape)
 {
-    OutArray<T> a;
-    bool ok = nb::try_cast(obj, a, false) && a.ndim() == shape.size();
+    if (void* data = writable_data(obj, format_of<T>(), sizeof(T), shape)) return static_cast<T*>(data);
     std::size_t k = 0;
     std::string text = "(";
-    for (const std::size_t n : shape) {
-        ok = ok && a.shape(k) == n;
+    for (const std::size_t n : shape)
         text += std::to_string(n) + (++k == 1 && shape.size() == 1 ? ",)" : k == shape.size() ? ")" : ", ");
-    }
-    if (!ok) bad_output(obj, what, dtype, text);
-    return a.data();
+    bad_output(obj, what, dtype, text);
 }
 
 /// A capsule that keeps a shared object alive for as long as an array refers to it.

@@ -8,6 +8,7 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -49,33 +50,55 @@ struct PyRenderer {
 struct PyVisibility {
     /// Its size always; its arrays unless `ids_out` holds them.
     std::shared_ptr<HostVisibility> host = std::make_shared<HostVisibility>();
-    nb::object ids_out, depth_out;   ///< the caller's (H, W) arrays read into (out=), or empty
+    /// The (H, W) NumPy arrays a render read back into (new ones, or the caller's with out=);
+    /// empty for buffers made from arrays or files, whose arrays are `host`'s.
+    nb::object ids_out, depth_out;
     VisibilityBuffer device;         ///< empty for buffers made from arrays, files or several devices
     std::optional<Camera> camera;    ///< the camera it was rendered with
     std::optional<Path> path;
     std::optional<Region> region;    ///< the part of the camera's image it holds, when not all
     FrameTiming timing;
     double call_seconds = 0;         ///< render and read-back as timed in C++ (the overhead benchmark)
+    /// When that C++ part began and ended (steady_clock, which is Python's perf_counter on Linux).
+    std::int64_t call_start_ns = 0, call_end_ns = 0;
 };
 
 /// The host arrays of `vis`: its own, or a copy of the caller's (out=) into `scratch`. Needs the GIL.
 const HostVisibility& host_of(const PyVisibility& vis, HostVisibility& scratch);
 
-/// Where a read-back goes: the caller's arrays, or null (the Visibility's own).
+/// Where a read-back goes: the caller's arrays (out=) or new ones, held by the Visibility.
 struct ReadTarget {
     std::uint32_t* ids = nullptr;
     float* depth = nullptr; ///< null when not read
 };
 
-/// The caller's arrays of render(out=...) kept in `vis`: an (H, W) uint32 ids array, or (ids, depth)
-/// with depth an (H, W) float32 array or None; each writable, C-contiguous, of the image's size.
-/// None: no target.
-ReadTarget bind_render_outputs(PyVisibility& vis, nb::handle out, int width, int height);
+/// The arrays a render reads back into, kept in `vis` (ids_out, depth_out): with `out` None, two
+/// new (H, W) arrays, read-only to Python (numpy.empty: no page touched before the read;
+/// Error(Limit) when the host cannot hold them); else the caller's, an (H, W) uint32 ids array or
+/// (ids, depth) with depth an (H, W) float32 array or None, each writable, C-contiguous, of the
+/// image's size (Error(InvalidArgument) naming which otherwise). Needs the GIL.
+ReadTarget read_target(PyVisibility& vis, nb::handle out, int width, int height);
 
 /// The device buffer of a Visibility rendered whole by a Renderer, for `what` (resolve, shade,
 /// ambient occlusion): Error(InvalidArgument) naming `what` for one made otherwise, or of a region
 /// when `whole` (its pixels do not match its camera's image).
 const VisibilityBuffer& device_buffer(const PyVisibility& vis, const char* what, bool whole = true);
+
+/// Times `f`, one C++ part of a call: adds to vis.call_seconds, and spans vis.call_start_ns (the
+/// first part's start) to vis.call_end_ns (the last part's end).
+template <class V, class F>
+void timed(V& vis, F&& f)
+{
+    const auto start = std::chrono::steady_clock::now();
+    f();
+    const auto end = std::chrono::steady_clock::now();
+    const auto ns = [](std::chrono::steady_clock::time_point t) {
+        return std::int64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count());
+    };
+    vis.call_seconds += std::chrono::duration<double>(end - start).count();
+    if (vis.call_start_ns == 0) vis.call_start_ns = ns(start);
+    vis.call_end_ns = ns(end);
+}
 
 /// Runs `f` with the GIL released and `lock` held (in that order).
 template <class F>

@@ -10,7 +10,6 @@
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
-#include <chrono>
 #include <cstring>
 
 namespace clvis::python {
@@ -44,17 +43,12 @@ PyVisibility render(PyMultiRenderer& r, const Camera& camera, int width, int hei
     MultiDeviceOptions options;
     options.tile = tile;
     options.device_map = device_map;
-    ReadTarget target = bind_render_outputs(vis, out, width, height);
+    const ReadTarget target = read_target(vis, out, width, height);
     unlocked(r.lock, [&] {
-        const auto start = std::chrono::steady_clock::now();
-        r.renderer.render(camera, width, height, *vis.path, options, r.frame);
-        if (!target.ids) {
-            vis.host->ids.resize(r.frame.keys.size());
-            vis.host->depth.resize(r.frame.keys.size());
-            target = ReadTarget{vis.host->ids.data(), vis.host->depth.data()};
-        }
-        split(r.frame.keys, target.ids, target.depth);
-        vis.call_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        timed(vis, [&] {
+            r.renderer.render(camera, width, height, *vis.path, options, r.frame);
+            split(r.frame.keys, target.ids, target.depth);
+        });
         vis.timing.frame_ms = r.frame.frame_ms;
     });
     vis.host->width = width;

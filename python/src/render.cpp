@@ -4,6 +4,7 @@
 #include "arrays.hpp"
 
 #include <nanobind/stl/optional.h>
+#include <nanobind/stl/pair.h>
 #include <nanobind/stl/tuple.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
@@ -81,10 +82,38 @@ Region region_of(nb::handle region)
 
 } // namespace
 
-ReadTarget bind_render_outputs(PyVisibility& vis, nb::handle out, int width, int height)
+namespace {
+
+/// numpy.empty((height, width), dtype), read-only to Python, and its data for the read-back.
+/// Error(Limit) when the host cannot hold it.
+template <class T>
+nb::object new_array(std::size_t height, std::size_t width, const char* dtype, T*& data)
+{
+    static PyObject* empty = nb::object(nb::module_::import_("numpy").attr("empty")).release().ptr();
+    nb::object a;
+    try {
+        a = nb::handle(empty)(nb::make_tuple(height, width), dtype);
+    } catch (const nb::python_error& e) {
+        if (!e.matches(PyExc_MemoryError)) throw;
+        throw Error(Error::Kind::Limit, "render: the host cannot hold the " + std::to_string(width) + "x" +
+                                            std::to_string(height) + " visibility buffer's " + dtype + " array");
+    }
+    data = static_cast<T*>(writable_data(a, format_of<T>(), sizeof(T), {height, width}));
+    a.attr("setflags")(nb::arg("write") = false); // NumPy's flag: the read-back writes through `data`
+    return a;
+}
+
+} // namespace
+
+ReadTarget read_target(PyVisibility& vis, nb::handle out, int width, int height)
 {
     ReadTarget target;
-    if (out.is_none()) return target;
+    const std::size_t h = std::size_t(height > 0 ? height : 0), w = std::size_t(width > 0 ? width : 0);
+    if (out.is_none()) {
+        vis.ids_out = new_array(h, w, "uint32", target.ids);
+        vis.depth_out = new_array(h, w, "float32", target.depth);
+        return target;
+    }
     nb::handle ids = out, depth;
     if (nb::isinstance<nb::tuple>(out) || nb::isinstance<nb::list>(out)) {
         if (nb::len(out) != 2)
@@ -93,7 +122,6 @@ ReadTarget bind_render_outputs(PyVisibility& vis, nb::handle out, int width, int
         ids = out[0];
         depth = out[1];
     }
-    const std::size_t h = std::size_t(height > 0 ? height : 0), w = std::size_t(width > 0 ? width : 0);
     target.ids = output_array<std::uint32_t>(ids, "render: out ids", "uint32", {h, w});
     vis.ids_out = nb::borrow(ids);
     if (depth.is_valid() && !depth.is_none()) {
@@ -115,21 +143,17 @@ PyVisibility render(PyRenderer& r, const Camera& camera, int width, int height, 
     vis.camera = camera;
     if (!region.is_none()) vis.region = region_of(region);
     const int w = vis.region ? vis.region->width : width, h = vis.region ? vis.region->height : height;
-    const ReadTarget target = bind_render_outputs(vis, out, w, h);
+    const ReadTarget target = read_target(vis, out, w, h);
     unlocked(r.lock, [&] {
-        const auto start = std::chrono::steady_clock::now();
-        if (vis.region) {
-            vis.device = VisibilityBuffer(r.renderer.device(), w, h);
-            r.renderer.render(camera, width, height, *vis.region, *vis.path, vis.device);
-        } else {
-            vis.device = r.renderer.render(camera, width, height, *vis.path);
-        }
-        if (target.ids) {
+        timed(vis, [&] {
+            if (vis.region) {
+                vis.device = VisibilityBuffer(r.renderer.device(), w, h);
+                r.renderer.render(camera, width, height, *vis.region, *vis.path, vis.device);
+            } else {
+                vis.device = r.renderer.render(camera, width, height, *vis.path);
+            }
             vis.device.read(target.ids, target.depth);
-        } else {
-            vis.device.read(*vis.host);
-        }
-        vis.call_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        });
         vis.timing = r.renderer.last_frame();
     });
     vis.host->width = w;
@@ -221,6 +245,8 @@ void bind_visibility(nb::module_& m)
         .def_prop_ro("timing", [](const PyVisibility& v) { return v.timing; })
         .def_prop_ro("_call_seconds", [](const PyVisibility& v) { return v.call_seconds; },
                      "Seconds of the C++ render and read-back inside render(): bench/python_overhead.py.")
+        .def_prop_ro("_call_span_ns", [](const PyVisibility& v) { return std::make_pair(v.call_start_ns, v.call_end_ns); },
+                     "(start, end) of that C++ part on time.perf_counter_ns()'s clock: bench/python_overhead.py.")
         .def("__repr__", [](const PyVisibility& v) {
             return "<clvis.Visibility " + std::to_string(v.host->width) + "x" + std::to_string(v.host->height) +
                    (v.path ? std::string(" by ") + to_string(*v.path) : std::string()) + ">";

@@ -1,5 +1,5 @@
-"""Results out: ids and depth are NumPy views of the one read-back (no copy on the way to NumPy),
-they outlive the Visibility, the Renderer and the Scene, and the GIL is free while the device
+"""Results out: ids and depth are the NumPy arrays the one read-back wrote (no copy on the way to
+NumPy), they outlive the Visibility, the Renderer and the Scene, and the GIL is free while the device
 works."""
 
 import gc
@@ -15,18 +15,21 @@ import clvis
 from conftest import front_camera, quad_scene
 
 
-def test_ids_and_depth_are_views_of_one_read_back(device, quad):
+def test_ids_and_depth_are_the_arrays_of_one_read_back(device, quad):
     vis = clvis.Renderer(device, quad).render(front_camera(), 32, 24)
     ids, depth = vis.ids, vis.depth
     assert ids.shape == depth.shape == (24, 32)
     assert ids.dtype == np.uint32 and depth.dtype == np.float32
     for array in (ids, depth):
-        assert not array.flags.owndata and array.base is not None
+        assert array.flags.owndata and array.base is None
         assert array.flags.c_contiguous and not array.flags.writeable
-    # Each access is a new view of the same storage, not a copy.
-    assert np.shares_memory(vis.ids, ids) and np.shares_memory(vis.depth, depth)
-    assert vis.ids.__array_interface__["data"][0] == ids.__array_interface__["data"][0]
+    # Each access gives the same array, not a copy.
+    assert vis.ids is ids and vis.depth is depth
     assert not np.shares_memory(ids, depth)
+    # A Visibility made from arrays keeps a copy and gives views of it.
+    made = clvis.Visibility(ids, depth)
+    assert not np.shares_memory(made.ids, ids) and np.shares_memory(made.ids, made.ids)
+    assert not made.ids.flags.owndata and not made.ids.flags.writeable
 
 
 def test_shaded_images_are_views_too(device, quad):
