@@ -42,6 +42,15 @@ struct PyRenderer {
     Lock lock;
     std::uint32_t triangles = 0;
     std::unique_ptr<RayQuery> query;
+    /// The arrays of the last render() that made its own: reused by the next render of that
+    /// size once nothing else refers to them (the caller dropped that result), so that a loop of
+    /// renders allocates no host memory. Touched with the GIL held only.
+    struct Spare {
+        nb::object ids, depth;
+        std::uint32_t* ids_data = nullptr;
+        float* depth_data = nullptr;
+        int width = 0, height = 0;
+    } spare;
 };
 
 /// A visibility buffer as Python sees it: host arrays shared with the NumPy arrays made from

@@ -133,6 +133,26 @@ ReadTarget read_target(PyVisibility& vis, nb::handle out, int width, int height)
 
 namespace {
 
+/// The renderer's spare arrays as the target of a width x height read-back, when nothing but the
+/// renderer refers to them; else false.
+bool take_spare(PyRenderer& r, PyVisibility& vis, int width, int height, ReadTarget& target)
+{
+    PyRenderer::Spare& s = r.spare;
+    if (!s.ids.is_valid() || s.width != width || s.height != height || Py_REFCNT(s.ids.ptr()) != 1 ||
+        Py_REFCNT(s.depth.ptr()) != 1)
+        return false;
+    vis.ids_out = std::move(s.ids);
+    vis.depth_out = std::move(s.depth);
+    target = ReadTarget{s.ids_data, s.depth_data};
+    return true;
+}
+
+/// Keeps the arrays render() made for `vis` as the renderer's spare.
+void keep_spare(PyRenderer& r, const PyVisibility& vis, int width, int height, const ReadTarget& target)
+{
+    r.spare = PyRenderer::Spare{vis.ids_out, vis.depth_out, target.ids, target.depth, width, height};
+}
+
 /// Renders (all of the image or `region`) and reads back once, into the Visibility's own arrays
 /// or into the caller's (`out`), the GIL released and the renderer locked.
 PyVisibility render(PyRenderer& r, const Camera& camera, int width, int height, const std::string& path_name,
@@ -143,7 +163,8 @@ PyVisibility render(PyRenderer& r, const Camera& camera, int width, int height, 
     vis.camera = camera;
     if (!region.is_none()) vis.region = region_of(region);
     const int w = vis.region ? vis.region->width : width, h = vis.region ? vis.region->height : height;
-    const ReadTarget target = read_target(vis, out, w, h);
+    ReadTarget target;
+    if (!out.is_none() || !take_spare(r, vis, w, h, target)) target = read_target(vis, out, w, h);
     unlocked(r.lock, [&] {
         timed(vis, [&] {
             if (vis.region) {
@@ -156,6 +177,7 @@ PyVisibility render(PyRenderer& r, const Camera& camera, int width, int height, 
         });
         vis.timing = r.renderer.last_frame();
     });
+    if (out.is_none()) keep_spare(r, vis, w, h, target);
     vis.host->width = w;
     vis.host->height = h;
     return vis;
@@ -278,7 +300,7 @@ void bind_render(nb::module_& m)
                int leaf_size, int sah_bins, const std::string& bvh_update, const std::string& raster_atomics,
                const std::string& coverage) {
                 const RenderOptions o = render_options(tile, cull, leaf_size, sah_bins, bvh_update, raster_atomics, coverage);
-                unlocked(scene.lock, [&] { new (self) PyRenderer{Renderer(device, scene.scene, o), {}, std::uint32_t(scene.scene.triangle_count()), nullptr}; });
+                unlocked(scene.lock, [&] { new (self) PyRenderer{Renderer(device, scene.scene, o), {}, std::uint32_t(scene.scene.triangle_count()), nullptr, {}}; });
             },
             nb::arg("device"), nb::arg("scene"), nb::kw_only(), nb::arg("tile") = 0, nb::arg("cull") = "none",
             nb::arg("leaf_size") = 4, nb::arg("sah_bins") = 16, nb::arg("bvh_update") = "refit",

@@ -151,3 +151,17 @@ def test_files_round_trip_through_the_image_layer(device, quad, tmp_path):
         clvis.write_image(tmp_path / "x.png", np.zeros((10, 20), np.uint8))
     with pytest.raises(clvis.IoError):
         clvis.write_ids(tmp_path / "no" / "such" / "dir.tif", vis)
+
+
+def test_a_dropped_results_arrays_serve_the_next_render_and_kept_ones_never(device, quad):
+    renderer = clvis.Renderer(device, quad)
+    camera = front_camera()
+    address = renderer.render(camera, 32, 24).ids.__array_interface__["data"][0]
+    # Nothing refers to that result's arrays any more: the next render of that size reads into them.
+    kept = renderer.render(camera, 32, 24).ids
+    assert kept.__array_interface__["data"][0] == address
+    before = kept.copy()
+    other = renderer.render(clvis.Camera(eye=(0.5, 0.2, 3), target=(0, 0, 0), near=0.5, far=10), 32, 24)
+    assert not np.shares_memory(other.ids, kept)
+    np.testing.assert_array_equal(kept, before)
+    assert (other.ids != kept).any()
