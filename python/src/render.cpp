@@ -155,10 +155,13 @@ void keep_spare(PyRenderer& r, const PyVisibility& vis, int width, int height, c
 
 /// Renders (all of the image or `region`) and reads back once, into the Visibility's own arrays
 /// or into the caller's (`out`), the GIL released and the renderer locked.
-PyVisibility render(PyRenderer& r, const Camera& camera, int width, int height, const std::string& path_name,
-                    nb::handle region, nb::handle out)
+/// The Python object is made before the device works, so that little is left to do after it (the
+/// first things run after a long call pay for caches gone cold).
+nb::object render(PyRenderer& r, const Camera& camera, int width, int height, const std::string& path_name,
+                  nb::handle region, nb::handle out)
 {
-    PyVisibility vis;
+    nb::object result = nb::cast(PyVisibility{}, nb::rv_policy::move);
+    PyVisibility& vis = nb::cast<PyVisibility&>(result);
     vis.path = path_named(path_name);
     vis.camera = camera;
     if (!region.is_none()) vis.region = region_of(region);
@@ -180,7 +183,7 @@ PyVisibility render(PyRenderer& r, const Camera& camera, int width, int height, 
     if (out.is_none()) keep_spare(r, vis, w, h, target);
     vis.host->width = w;
     vis.host->height = h;
-    return vis;
+    return result;
 }
 
 void bind_timing(nb::module_& m)
