@@ -14,6 +14,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace clvis::python {
@@ -134,6 +135,15 @@ void bind_image(nb::module_& m);
 /// clvis.RayQuery (ray_query.cpp) and clvis.MultiDeviceRenderer (multi_device.cpp).
 void bind_ray_query(nb::module_& m);
 void bind_multi_device(nb::module_& m);
+/// The keyword arguments of render_options() as Renderer and MultiDeviceRenderer take them after
+/// their device(s) and scene: pass with std::apply.
+inline auto option_args()
+{
+    return std::make_tuple(nb::kw_only(), nb::arg("tile") = 0, nb::arg("cull") = "none", nb::arg("leaf_size") = 4,
+                           nb::arg("sah_bins") = 16, nb::arg("bvh_update") = "refit",
+                           nb::arg("raster_atomics") = "auto", nb::arg("coverage") = "watertight");
+}
+
 /// The RenderOptions of a Renderer's keyword arguments, named as the command line names them.
 RenderOptions render_options(int tile, const std::string& cull, int leaf_size, int sah_bins,
                              const std::string& bvh_update, const std::string& raster_atomics,

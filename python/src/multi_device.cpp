@@ -79,19 +79,16 @@ void bind_multi_device(nb::module_& m)
         .def("__repr__", [](const DeviceShare& s) {
             return "<clvis.DeviceShare " + s.device + ": " + std::to_string(s.tiles) + " tiles>";
         });
-    nb::class_<PyMultiRenderer>(m, "MultiDeviceRenderer", multi_doc)
-        .def(
-            "__init__",
-            [](PyMultiRenderer* self, const std::vector<Device>& devices, PyScene& scene, int tile,
-               const std::string& cull, int leaf_size, int sah_bins, const std::string& bvh_update,
-               const std::string& raster_atomics, const std::string& coverage) {
-                const RenderOptions o = render_options(tile, cull, leaf_size, sah_bins, bvh_update, raster_atomics, coverage);
-                unlocked(scene.lock, [&] { new (self) PyMultiRenderer{MultiDeviceRenderer(devices, scene.scene, o), {}, {}}; });
-            },
-            nb::arg("devices"), nb::arg("scene"), nb::kw_only(), nb::arg("tile") = 0, nb::arg("cull") = "none",
-            nb::arg("leaf_size") = 4, nb::arg("sah_bins") = 16, nb::arg("bvh_update") = "refit",
-            nb::arg("raster_atomics") = "auto", nb::arg("coverage") = "watertight")
-        .def("render", &render,
+    nb::class_<PyMultiRenderer> c(m, "MultiDeviceRenderer", multi_doc);
+    const auto init = [](PyMultiRenderer* self, const std::vector<Device>& devices, PyScene& scene, int tile,
+                         const std::string& cull, int leaf_size, int sah_bins, const std::string& bvh_update,
+                         const std::string& raster_atomics, const std::string& coverage) {
+        const RenderOptions o = render_options(tile, cull, leaf_size, sah_bins, bvh_update, raster_atomics, coverage);
+        unlocked(scene.lock, [&] { new (self) PyMultiRenderer{MultiDeviceRenderer(devices, scene.scene, o), {}, {}}; });
+    };
+    std::apply([&](auto... options) { c.def("__init__", init, nb::arg("devices"), nb::arg("scene"), options...); },
+               option_args());
+    c.def("render", &render,
              nb::sig("def render(self, camera: Camera, width: int, height: int, path: str = 'raster', *, "
                      "screen_tile: int = 64, device_map: bool = False, "
                      "out: numpy.typing.NDArray[numpy.uint32] | tuple[numpy.typing.NDArray[numpy.uint32], "

@@ -1,6 +1,7 @@
 // Rendering from Python: a Renderer keeps a scene on a device; render() answers for a camera by
-// either path and returns a Visibility whose NumPy arrays are views of the one read-back (no
-// further copy), valid on their own after the Visibility and the Renderer are gone.
+// either path (all of the image or a region) and returns a Visibility whose NumPy arrays are the
+// ones the single read-back wrote (new, reused once dropped, or the caller's with out=), valid on
+// their own after the Visibility and the Renderer are gone.
 #include "arrays.hpp"
 
 #include <nanobind/stl/optional.h>
@@ -228,8 +229,9 @@ void bind_visibility(nb::module_& m)
 {
     nb::class_<PyVisibility>(m, "Visibility", nb::is_weak_referenceable(),
                              "A visibility buffer: per pixel the nearest triangle's id (background_id where none) and its\n"
-                             "view depth (+inf where none), row 0 on top. `ids` and `depth` are read-only NumPy views of\n"
-                             "the one read-back; they stay valid on their own (after the Visibility and the Renderer).\n\n"
+                             "view depth (+inf where none), row 0 on top. `ids` and `depth` are the NumPy arrays the one\n"
+                             "read-back wrote (read-only; the caller's own with render(out=...)); they stay valid on\n"
+                             "their own (after the Visibility and the Renderer).\n\n"
                              "Example:\n    vis = renderer.render(camera, 640, 360)\n    covered = vis.ids != clvis.background_id")
         .def(
             "__init__",
@@ -251,13 +253,13 @@ void bind_visibility(nb::module_& m)
             if (v.ids_out.is_valid()) return v.ids_out;
             const HostVisibility& h = *v.host;
             return nb::cast(numpy_view(h.ids.data(), {std::size_t(h.height), std::size_t(h.width)}, keep_alive(v.host)));
-        }, "(H, W) uint32, read-only.")
+        }, "(H, W) uint32: the same array at every access; read-only unless the caller's (out=).")
         .def_prop_ro("depth", [](const PyVisibility& v) -> nb::object {
             if (v.ids_out.is_valid()) return v.depth_out.is_valid() ? v.depth_out : nb::none();
             const HostVisibility& h = *v.host;
             if (h.depth.empty()) return nb::none();
             return nb::cast(numpy_view(h.depth.data(), {std::size_t(h.height), std::size_t(h.width)}, keep_alive(v.host)));
-        }, "(H, W) float32 view depths, read-only; None for ids read from a file without depths.")
+        }, "(H, W) float32 view depths, as `ids`; None for ids read from a file without depths or out=ids alone.")
         .def_prop_ro("camera", [](const PyVisibility& v) { return v.camera; }, "The camera it was rendered with, or None.")
         .def_prop_ro("path", [](const PyVisibility& v) {
             return v.path ? std::optional<std::string>(to_string(*v.path)) : std::nullopt;
@@ -297,18 +299,18 @@ void bind_render(nb::module_& m)
     bind_timing(m);
     bind_visibility(m);
     nb::class_<PyRenderer> r(m, "Renderer", nb::is_weak_referenceable(), renderer_doc);
-    r.def(
-            "__init__",
-            [](PyRenderer* self, const Device& device, PyScene& scene, int tile, const std::string& cull,
-               int leaf_size, int sah_bins, const std::string& bvh_update, const std::string& raster_atomics,
-               const std::string& coverage) {
-                const RenderOptions o = render_options(tile, cull, leaf_size, sah_bins, bvh_update, raster_atomics, coverage);
-                unlocked(scene.lock, [&] { new (self) PyRenderer{Renderer(device, scene.scene, o), {}, std::uint32_t(scene.scene.triangle_count()), nullptr, {}}; });
-            },
-            nb::arg("device"), nb::arg("scene"), nb::kw_only(), nb::arg("tile") = 0, nb::arg("cull") = "none",
-            nb::arg("leaf_size") = 4, nb::arg("sah_bins") = 16, nb::arg("bvh_update") = "refit",
-            nb::arg("raster_atomics") = "auto", nb::arg("coverage") = "watertight")
-        .def("render", &render,
+    const auto init = [](PyRenderer* self, const Device& device, PyScene& scene, int tile, const std::string& cull,
+                         int leaf_size, int sah_bins, const std::string& bvh_update,
+                         const std::string& raster_atomics, const std::string& coverage) {
+        const RenderOptions o = render_options(tile, cull, leaf_size, sah_bins, bvh_update, raster_atomics, coverage);
+        unlocked(scene.lock, [&] {
+            const auto triangles = std::uint32_t(scene.scene.triangle_count());
+            new (self) PyRenderer{Renderer(device, scene.scene, o), {}, triangles, nullptr, {}};
+        });
+    };
+    std::apply([&](auto... options) { r.def("__init__", init, nb::arg("device"), nb::arg("scene"), options...); },
+               option_args());
+    r.def("render", &render,
              nb::sig("def render(self, camera: Camera, width: int, height: int, path: str = 'raster', *, "
                      "region: tuple[int, int, int, int] | None = None, "
                      "out: numpy.typing.NDArray[numpy.uint32] | tuple[numpy.typing.NDArray[numpy.uint32], "
