@@ -65,7 +65,7 @@ void* writable_data(nb::handle obj, char format, std::size_t itemsize, std::init
     }
     const char* f = view.format ? view.format : "B";
     if (*f == '@' || *f == '=' || *f == '<') ++f;
-    bool ok = f[0] == format && f[1] == 0 && std::size_t(view.itemsize) == itemsize &&
+    bool ok = (format == 0 || (f[0] == format && f[1] == 0)) && std::size_t(view.itemsize) == itemsize &&
               std::size_t(view.ndim) == shape.size();
     int k = 0;
     for (const std::size_t n : shape) ok = ok && std::size_t(view.shape[k++]) == n;

@@ -58,7 +58,9 @@ template <> constexpr char format_of<std::uint8_t>() { return 'B'; }
 template <> constexpr char format_of<std::uint32_t>() { return 'I'; }
 template <> constexpr char format_of<float>() { return 'f'; }
 
-/// The data of `obj` when it is a writable C-contiguous array of T of exactly `shape`, else null.
+/// The data of `obj` when it is a writable C-contiguous array of items of `itemsize` bytes in
+/// `format` (a buffer-protocol character; 0: any, the caller checks the dtype) and exactly
+/// `shape`, else null.
 /// Through the buffer protocol, the pointer stays valid while the caller's array lives.
 void* writable_data(nb::handle obj, char format, std::size_t itemsize, std::initializer_list<std::size_t> shape);
 

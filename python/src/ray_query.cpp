@@ -76,12 +76,9 @@ void run(PyRayQuery& q, F&& f)
 /// The caller's AoS hits: a writable C-contiguous (N,) array of clvis.hit_dtype.
 HitRecord* hit_records(nb::handle out, std::size_t n)
 {
-    const bool ok = has_dtype(out, package_dtype("hit_dtype")) && nb::cast<nb::tuple>(out.attr("shape")).size() == 1 &&
-                    nb::cast<std::size_t>(out.attr("shape")[0]) == n &&
-                    nb::cast<bool>(out.attr("flags").attr("c_contiguous")) &&
-                    nb::cast<bool>(out.attr("flags").attr("writeable"));
-    if (!ok) bad_output(out, "RayQuery.closest: out", "clvis.hit_dtype", "(" + std::to_string(n) + ",)");
-    return reinterpret_cast<HitRecord*>(nb::cast<std::uintptr_t>(out.attr("ctypes").attr("data")));
+    void* data = has_dtype(out, package_dtype("hit_dtype")) ? writable_data(out, 0, sizeof(HitRecord), {n}) : nullptr;
+    if (!data) bad_output(out, "RayQuery.closest: out", "clvis.hit_dtype", "(" + std::to_string(n) + ",)");
+    return static_cast<HitRecord*>(data);
 }
 
 nb::object closest(PyRayQuery& q, nb::handle rays, const std::string& layout, nb::handle out)
