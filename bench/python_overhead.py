@@ -60,6 +60,31 @@ def views_after_sleep(vis, seconds, calls):
     return statistics.median(times)
 
 
+def ray_batches(renderer, scene, calls):
+    """RayQuery.closest from Python against the C++ call's own wall time (RayQueryStats.wall_ms)."""
+    query = clvis.RayQuery(renderer)
+    rng = np.random.default_rng(1)
+    radius = 3 * max(scene.bounds().extent)
+    print(f"{'rays':>7} {'mode':>6} {'python us':>10} {'c++ us':>10} {'overhead us':>12}")
+    for n in (1000, 100000):
+        rays = np.zeros((n, 8), np.float32)
+        rays[:, 0:3] = rng.normal(size=(n, 3)) * radius
+        rays[:, 4:7], rays[:, 7] = -rays[:, 0:3], np.inf
+        hits = np.empty(n, clvis.hit_dtype)
+        for mode, out in (("new", None), ("out=", hits)):
+            query.closest(rays, out=out)
+            whole, inner = [], []
+            for _ in range(calls if n == 1000 else max(calls // 20, 5)):
+                start = time.perf_counter()
+                result = query.closest(rays, out=out)
+                whole.append(time.perf_counter() - start)
+                inner.append(query.stats.wall_ms * 1e-3)
+                del result
+            extra = statistics.median(w - i for w, i in zip(whole, inner))
+            print(f"{n:7} {mode:>6} {statistics.median(whole) * 1e6:10.1f} {statistics.median(inner) * 1e6:10.1f} "
+                  f"{extra * 1e6:12.1f}")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--device", default=None, help="device spec (default: CLVIS_DEVICE, else GPU, else CPU)")
@@ -85,6 +110,7 @@ def main():
                 print(f"{path:6} {width:>4}x{height:<4} {mode:>6} {m['whole'] * 1e6:10.1f} {m['inner'] * 1e6:10.1f} "
                       f"{m['extra'] * 1e6:12.1f} {m['p90'] * 1e6:8.1f} {m['entry'] * 1e6:6.1f} {m['exit'] * 1e6:6.1f} "
                       f"{m['arrays'] * 1e6:6.1f} {control * 1e6:22.1f}")
+    ray_batches(renderer, scene, args.calls)
 
 if __name__ == "__main__":
     main()
