@@ -9,6 +9,7 @@
    each candidate triangle is judged by the raster path's predicate instead (packet_rule_leaf). */
 #include "shared/bvh.h"
 #include "shared/camera.h"
+#include "shared/instance.h"
 #include "shared/ray.h"
 #include "shared/region.h"
 #include "shared/visibility.h"
@@ -70,13 +71,16 @@ static lanes_f lower(lanes_f acc, lanes_f v) { return select(acc, v, v < acc); }
    or its nearest hit) already scaled by CLVIS_IZE_SCALE. Where every lane enters through the same
    planes the planes are picked once, and with a common origin (perspective) plane - origin is
    one scalar subtraction: the same operations on the same values as the per-lane form. */
-static lanes_i packet_hits_box(const packet* p, __global const clvis_bvh4_node* n, int k, float near_t, lanes_f cull)
+static lanes_i packet_hits_box(const packet* p, __global const clvis_bvh4_node* n, int k, __global const clvis_instance* xi,
+                               float near_t, lanes_f cull)
 {
+    float lo[3], hi[3];
+    clvis_instance_child_box(n, k, xi, lo, hi);
     lanes_f tnx, tny, tnz, tfx, tfy, tfz;
     if (p->same_signs) {
-        float nx = p->neg_x ? n->hi_x[k] : n->lo_x[k], fx = p->neg_x ? n->lo_x[k] : n->hi_x[k];
-        float ny = p->neg_y ? n->hi_y[k] : n->lo_y[k], fy = p->neg_y ? n->lo_y[k] : n->hi_y[k];
-        float nz = p->neg_z ? n->hi_z[k] : n->lo_z[k], fz = p->neg_z ? n->lo_z[k] : n->hi_z[k];
+        float nx = p->neg_x ? hi[0] : lo[0], fx = p->neg_x ? lo[0] : hi[0];
+        float ny = p->neg_y ? hi[1] : lo[1], fy = p->neg_y ? lo[1] : hi[1];
+        float nz = p->neg_z ? hi[2] : lo[2], fz = p->neg_z ? lo[2] : hi[2];
         if (p->perspective) {
             tnx = (lanes_f)(nx - p->eye_x) * p->ix;
             tny = (lanes_f)(ny - p->eye_y) * p->iy;
@@ -93,8 +97,8 @@ static lanes_i packet_hits_box(const packet* p, __global const clvis_bvh4_node* 
             tfz = ((lanes_f)(fz) - p->oz) * p->iz;
         }
     } else {
-        lanes_f lox = (lanes_f)(n->lo_x[k]), loy = (lanes_f)(n->lo_y[k]), loz = (lanes_f)(n->lo_z[k]);
-        lanes_f hix = (lanes_f)(n->hi_x[k]), hiy = (lanes_f)(n->hi_y[k]), hiz = (lanes_f)(n->hi_z[k]);
+        lanes_f lox = (lanes_f)(lo[0]), loy = (lanes_f)(lo[1]), loz = (lanes_f)(lo[2]);
+        lanes_f hix = (lanes_f)(hi[0]), hiy = (lanes_f)(hi[1]), hiz = (lanes_f)(hi[2]);
         tnx = (select(lox, hix, p->nx) - p->ox) * p->ix;
         tny = (select(loy, hiy, p->ny) - p->oy) * p->iy;
         tnz = (select(loz, hiz, p->nz) - p->oz) * p->iz;
@@ -157,10 +161,9 @@ static lanes_i not_finite(lanes_f v) { return (as_uint16(v) & 0x7F800000u) == 0x
 /* clvis_intersect_triangle on every lane (culling by `faces`, CLVIS_CULL_*), keeping each lane's
    nearest key (t bits, then id). The vertices are permuted to each lane's shear axes and the lane's permuted origin subtracted: the
    same single subtraction as the scalar test, whichever comes first. */
-static void packet_test_triangle(const packet* p, __global const clvis_bvh_tri* tri, float near_t, float far_t,
+static void packet_test_triangle(const packet* p, const float* vert, uint tri_id, float near_t, float far_t,
                                  int faces, lanes_u* best_t, lanes_u* best_id)
 {
-    float vert[9] = {tri->v0_x, tri->v0_y, tri->v0_z, tri->v1_x, tri->v1_y, tri->v1_z, tri->v2_x, tri->v2_y, tri->v2_z};
     lanes_f akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz;
     if (p->common_origin) {
         /* vertex minus origin once for all lanes: the same subtraction, done in scalar */
@@ -231,7 +234,7 @@ static void packet_test_triangle(const packet* p, __global const clvis_bvh_tri* 
     lanes_i hit = inside & (r.det != 0.0f) & (t >= near_t) & (t <= far_t);
     if (faces == CLVIS_CULL_BACK) hit &= r.det > 0.0f; /* clvis_cull_keeps on every lane */
     else if (faces == CLVIS_CULL_FRONT) hit &= r.det < 0.0f;
-    lanes_u bits = as_uint16(t), id = (lanes_u)(tri->id);
+    lanes_u bits = as_uint16(t), id = (lanes_u)(tri_id);
     lanes_i nearer = hit & ((bits < *best_t) | ((bits == *best_t) & (id < *best_id)));
     *best_t = select(*best_t, bits, nearer);
     *best_id = select(*best_id, id, nearer);
@@ -320,9 +323,11 @@ static void make_packet(clvis_camera_gpu cam, int x0, int y0, packet* out)
    widened by clvis_rule_box_of's margin, or every key in it would lie beyond the ray's nearest
    (its depth range starts past it) or before near. */
 static lanes_i packet_hits_box_rule(const packet* p, clvis_camera_gpu cam, __global const clvis_bvh4_node* n, int k,
-                                    lanes_f cull)
+                                    __global const clvis_instance* xi, lanes_f cull)
 {
-    float lx = n->lo_x[k], ly = n->lo_y[k], lz = n->lo_z[k], hx = n->hi_x[k], hy = n->hi_y[k], hz = n->hi_z[k];
+    float lo[3], hi[3];
+    clvis_instance_child_box(n, k, xi, lo, hi);
+    float lx = lo[0], ly = lo[1], lz = lo[2], hx = hi[0], hy = hi[1], hz = hi[2];
     if (!(lx <= hx && ly <= hy && lz <= hz)) return (lanes_i)(0); /* an unused slot */
     clvis_rule_box b = clvis_rule_box_of(cam, lx, ly, lz, hx, hy, hz);
     if (b.hi_d < cam.near_d) return (lanes_i)(0);
@@ -341,15 +346,16 @@ static lanes_i packet_hits_box_rule(const packet* p, clvis_camera_gpu cam, __glo
 
 /* The raster rule on every pixel of the packet for the triangles of a leaf; `cull` becomes each
    ray's nearest key depth (or far). */
-static void packet_rule_leaf(__global const clvis_bvh_tri* tris, uint first, uint count, clvis_camera_gpu cam,
-                             int faces, int x0, int y0, ulong* best, lanes_f* cull)
+static void packet_rule_leaf(__global const clvis_bvh_tri* tris, uint first, uint count, __global const clvis_instance* xi,
+                             clvis_camera_gpu cam, int faces, int x0, int y0, ulong* best, lanes_f* cull)
 {
     clvis_pixel_block blk = {x0, y0, min(CLVIS_PACKET_W, cam.width - x0), min(CLVIS_PACKET_H, cam.height - y0),
                              CLVIS_PACKET_W};
     for (uint k = first; k < first + count; ++k) {
-        __global const clvis_bvh_tri* t = tris + k;
-        clvis_vec3 a = {t->v0_x, t->v0_y, t->v0_z}, b = {t->v1_x, t->v1_y, t->v1_z}, c = {t->v2_x, t->v2_y, t->v2_z};
-        clvis_raster_rule_keys(cam, faces, a, b, c, t->id, blk, best);
+        float v[9];
+        uint id = clvis_instance_triangle(tris + k, xi, v);
+        clvis_vec3 a = {v[0], v[1], v[2]}, b = {v[3], v[4], v[5]}, c = {v[6], v[7], v[8]};
+        clvis_raster_rule_keys(cam, faces, a, b, c, id, blk, best);
     }
     uint depth[CLVIS_PACKET];
     for (int l = 0; l < CLVIS_PACKET; ++l) depth[l] = (uint)(best[l] >> 32);
@@ -360,10 +366,14 @@ static void packet_rule_leaf(__global const clvis_bvh_tri* tris, uint first, uin
 #ifndef CLVIS_RASTER_RULE
 /* Tests the triangles of a leaf on every lane. */
 static void packet_test_leaf(const packet* p, __global const clvis_bvh_tri* tris, uint first, uint count,
-                             clvis_camera_gpu cam, int faces, lanes_u* best_t, lanes_u* best_id, lanes_f* cull)
+                             __global const clvis_instance* xi, clvis_camera_gpu cam, int faces, lanes_u* best_t,
+                             lanes_u* best_id, lanes_f* cull)
 {
-    for (uint k = first; k < first + count; ++k)
-        packet_test_triangle(p, tris + k, cam.near_d, cam.far_d, faces, best_t, best_id);
+    for (uint k = first; k < first + count; ++k) {
+        float v[9];
+        uint id = clvis_instance_triangle(tris + k, xi, v);
+        packet_test_triangle(p, v, id, cam.near_d, cam.far_d, faces, best_t, best_id);
+    }
     *cull = fmin((lanes_f)(cam.far_d), as_float16(*best_t)) * CLVIS_IZE_SCALE;
 }
 #endif
@@ -371,9 +381,11 @@ static void packet_test_leaf(const packet* p, __global const clvis_bvh_tri* tris
 /* Traces the packet of pixels from (x0, y0) (in the image) and writes the keys of those inside
    `region` into its buffer (shared/region.h); `faces` is the cull mode (CLVIS_CULL_*). Stack
    entries name a child slot, (4-wide node << 2) | slot, so that a popped child is tested again
-   against the hits found since it was pushed. */
+   against the hits found since it was pushed, with the instance it lies in (shared/instance.h:
+   boxes and triangles tested in world space); `two_level` starts in the top level of `instances`. */
 static void trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int y0, __global const clvis_bvh4_node* nodes,
-                         uint node_count, __global const clvis_bvh_tri* tris, int faces, __global ulong* keys)
+                         uint node_count, __global const clvis_bvh_tri* tris, __global const clvis_instance* instances,
+                         int two_level, int faces, __global ulong* keys)
 {
     int x_end = region.x + region.width, y_end = region.y + region.height;
     packet p;
@@ -382,20 +394,24 @@ static void trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int 
     ulong best[CLVIS_PACKET];
     for (int l = 0; l < CLVIS_PACKET; ++l) best[l] = CLVIS_BACKGROUND_KEY;
     lanes_f cull = (lanes_f)(cam.far_d); /* each ray's nearest key depth, or far */
-#define CLVIS_HITS_BOX(nd, k) packet_hits_box_rule(&p, cam, nd, k, cull)
-#define CLVIS_TEST_LEAF(nd, k) packet_rule_leaf(tris, nd->child[k], nd->count[k], cam, faces, x0, y0, best, &cull)
+#define CLVIS_HITS_BOX(nd, k) packet_hits_box_rule(&p, cam, nd, k, xi, cull)
+#define CLVIS_TEST_LEAF(nd, k) packet_rule_leaf(tris, nd->child[k], nd->count[k], xi, cam, faces, x0, y0, best, &cull)
 #else
     lanes_u best_t = (lanes_u)(clvis_float_bits(CLVIS_INFINITY)), best_id = (lanes_u)(CLVIS_BACKGROUND_ID);
     /* each ray's far distance (far, or its nearest hit), scaled for the conservative slab test */
     lanes_f cull = (lanes_f)(cam.far_d * CLVIS_IZE_SCALE);
-#define CLVIS_HITS_BOX(nd, k) packet_hits_box(&p, nd, k, cam.near_d, cull)
+#define CLVIS_HITS_BOX(nd, k) packet_hits_box(&p, nd, k, xi, cam.near_d, cull)
 #define CLVIS_TEST_LEAF(nd, k) \
-    packet_test_leaf(&p, tris, nd->child[k], nd->count[k], cam, faces, &best_t, &best_id, &cull)
+    packet_test_leaf(&p, tris, nd->child[k], nd->count[k], xi, cam, faces, &best_t, &best_id, &cull)
 #endif
+#define CLVIS_OPEN_LEAF(nd, k)                                                                            \
+    if (inst == CLVIS_INST_TOP) node = clvis_enter_instances(nd, k, instances, stack, stack_inst, &sp, &inst, &xi); \
+    else CLVIS_TEST_LEAF(nd, k)
 
-    uint stack[CLVIS_RAY_STACK];
-    uint sp = 0;
-    uint node = node_count > 0 ? 0u : CLVIS_RAY_NONE;
+    uint stack[CLVIS_RAY_STACK], stack_inst[CLVIS_RAY_STACK];
+    uint sp = 0, node = node_count > 0 ? 0u : CLVIS_RAY_NONE;
+    uint inst = two_level ? CLVIS_INST_TOP : CLVIS_INST_FLAT;
+    __global const clvis_instance* xi = 0; /* instance `inst`, or none at the top level and in the flat tree */
     for (;;) {
         if (node != CLVIS_RAY_NONE) {
             __global const clvis_bvh4_node* nd = nodes + node;
@@ -420,19 +436,23 @@ static void trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int 
             }
             node = CLVIS_RAY_NONE;
             if (hits > 0) {
-                for (uint i = hits - 1; i > 0; --i) stack[sp++] = (uint)(nd - nodes) << 2 | order[i];
+                for (uint i = hits - 1; i > 0; --i, ++sp)
+                    stack_inst[sp] = inst, stack[sp] = (uint)(nd - nodes) << 2 | order[i];
                 uint k = order[0];
-                if (nd->count[k] > 0) CLVIS_TEST_LEAF(nd, k);
+                if (nd->count[k] > 0) { CLVIS_OPEN_LEAF(nd, k); }
                 else node = nd->child[k];
             }
         }
         /* Pop the next child that some ray may still reach before its nearest hit. */
         while (node == CLVIS_RAY_NONE && sp > 0) {
             uint e = stack[--sp];
+            inst = stack_inst[sp];
+            xi = inst < CLVIS_INST_TOP ? instances + inst : 0;
+            if (e == CLVIS_ENTER_INSTANCE) { node = xi->root; break; }
             __global const clvis_bvh4_node* nd = nodes + (e >> 2);
             uint k = e & 3;
             if (or_lanes(CLVIS_HITS_BOX(nd, (int)k)) >= 0) continue; /* no lane's sign bit */
-            if (nd->count[k] > 0) CLVIS_TEST_LEAF(nd, k);
+            if (nd->count[k] > 0) { CLVIS_OPEN_LEAF(nd, k); }
             else node = nd->child[k];
         }
         if (node == CLVIS_RAY_NONE) break;
@@ -440,6 +460,7 @@ static void trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int 
 
 #undef CLVIS_HITS_BOX
 #undef CLVIS_TEST_LEAF
+#undef CLVIS_OPEN_LEAF
 #ifndef CLVIS_RASTER_RULE
     uint t_bits[CLVIS_PACKET], ids[CLVIS_PACKET];
     vstore16(best_t, 0, t_bits);
@@ -455,24 +476,25 @@ static void trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int 
 }
 
 __kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh4_node* nodes, uint node_count,
-                        __global const clvis_bvh_tri* tris, int faces, __global ulong* keys, clvis_region region)
+                        __global const clvis_bvh_tri* tris, int faces, __global ulong* keys, clvis_region region,
+                        __global const clvis_instance* instances, int two_level)
 {
     /* Packets start at the region's corner; each lane's ray is its own pixel's. */
     int x0 = region.x + (int)get_global_id(0) * CLVIS_PACKET_W, y0 = region.y + (int)get_global_id(1) * CLVIS_PACKET_H;
     if (x0 >= region.x + region.width || y0 >= region.y + region.height) return; /* the launch is rounded up */
-    trace_packet(cam, region, x0, y0, nodes, node_count, tris, faces, keys);
+    trace_packet(cam, region, x0, y0, nodes, node_count, tris, instances, two_level, faces, keys);
 }
 
 /* Many views in one launch: the third dimension is the view, whose keys start `stride` keys after
    the previous view's. Each view gets the bits ray_trace gives it alone (the same function). */
 __kernel void ray_trace_views(__global const clvis_camera_gpu* cams, __global const clvis_bvh4_node* nodes,
                               uint node_count, __global const clvis_bvh_tri* tris, int faces, __global ulong* keys,
-                              ulong stride)
+                              ulong stride, __global const clvis_instance* instances, int two_level)
 {
     size_t view = get_global_id(2);
     clvis_camera_gpu cam = cams[view];
     int x0 = (int)get_global_id(0) * CLVIS_PACKET_W, y0 = (int)get_global_id(1) * CLVIS_PACKET_H;
     if (x0 >= cam.width || y0 >= cam.height) return;
     clvis_region whole = {0, 0, cam.width, cam.height};
-    trace_packet(cam, whole, x0, y0, nodes, node_count, tris, faces, keys + view * stride);
+    trace_packet(cam, whole, x0, y0, nodes, node_count, tris, instances, two_level, faces, keys + view * stride);
 }

@@ -5,6 +5,7 @@
 #include "render/pipeline.hpp"
 
 #include "ray/bvh_build.hpp"
+#include "ray/bvh_instances.hpp"
 #include "runtime/cl_runtime.hpp"
 
 #include "shared/ray.h"
@@ -18,6 +19,7 @@ namespace clvis::detail {
 static_assert(sizeof(clvis_bvh_node) == 32, "layout shared with kernels/shared/bvh.h");
 static_assert(sizeof(clvis_bvh4_node) == 128, "layout shared with kernels/shared/bvh.h");
 static_assert(sizeof(clvis_bvh_tri) == 48, "layout shared with kernels/shared/bvh.h");
+static_assert(sizeof(clvis_instance) == 64, "layout shared with kernels/shared/instance.h");
 
 namespace {
 
@@ -50,11 +52,16 @@ struct RayPipeline::Impl {
     cl::Kernel trace, trace_views, brute;
     cl::NDRange trace_group, views_group, brute_group; ///< work-items per work-group
     int trace_stack = 0;                  ///< CLVIS_RAY_STACK of the built trace kernel
-    Bvh bvh;   ///< the binary tree, kept for refits
+    Bvh bvh;   ///< the binary tree, kept for refits (flat: a scene without instances, or queries)
     Bvh4 wide; ///< what the kernel reads
     bool built = false;
     cl::Buffer nodes, tris;
     BvhStats stats;
+    /// A scene with instances: the two-level BVH (bvh_instances.hpp) in levels_*; the flat one
+    /// above is built from the expansion only for the ray queries (prepare_queries).
+    bool two_level = false, flat_current = false;
+    InstanceBvh levels;
+    cl::Buffer level_nodes, level_tris, instances;
 
     Impl(Device::Impl& d, const RenderOptions& o) : device(d), options(o) {}
 
@@ -75,7 +82,8 @@ struct RayPipeline::Impl {
     /// leaves at most three children on it.
     void prepare_trace()
     {
-        int stack = ((3 * wide.depth + 1) / stack_step + 1) * stack_step;
+        int entries = two_level ? levels.stack_entries() : 3 * wide.depth + 1;
+        int stack = (entries / stack_step + 1) * stack_step;
         if (stack == trace_stack) return;
         std::string define = coverage_define(options.coverage);
         cl::Program program = device.program("ray_trace", "-DCLVIS_RAY_STACK=" + std::to_string(stack) +
@@ -87,52 +95,107 @@ struct RayPipeline::Impl {
         trace_stack = stack;
     }
 
-    void upload(cl::CommandQueue& queue)
+    /// The trace kernels' tree arguments: 1-3 (nodes, node count, triangles), 7-8 (instances,
+    /// two_level).
+    void set_tree_args(cl::Kernel& k)
+    {
+        k.setArg(1, two_level ? level_nodes : nodes);
+        k.setArg(2, cl_uint(two_level ? levels.nodes().size() : wide.nodes.size()));
+        k.setArg(3, two_level ? level_tris : tris);
+        k.setArg(7, instances);
+        k.setArg(8, cl_int(two_level));
+    }
+
+    /// Writes `items` into `buffer` (made or remade at their size, at least one element).
+    template <typename T>
+    void put(cl::Buffer& buffer, const std::vector<T>& items, const std::string& what, cl::CommandQueue& queue)
+    {
+        std::uint64_t bytes = std::max<std::uint64_t>(items.size(), 1) * sizeof(T);
+        device.check_allocation(bytes, "the BVH's " + std::to_string(items.size()) + " " + what);
+        if (!buffer() || buffer.getInfo<CL_MEM_SIZE>() != bytes)
+            buffer = cl::Buffer(device.context, CL_MEM_READ_ONLY, bytes);
+        if (!items.empty()) queue.enqueueWriteBuffer(buffer, CL_FALSE, 0, items.size() * sizeof(T), items.data());
+    }
+
+    static void check_nodes(std::size_t count)
+    {
+        // (2^30 - 1): a stack entry of all ones enters an instance (shared/instance.h)
+        if (count >= (std::size_t(1) << 30) - 1)
+            throw Error(Error::Kind::Limit, "the BVH's " + std::to_string(count) + " nodes exceed the ray kernel's 2^30 - 1");
+    }
+
+    /// Uploads the flat BVH (nodes, tris), or with `levels_too` the two-level one.
+    void upload(cl::CommandQueue& queue, bool levels_too)
     {
         auto t0 = std::chrono::steady_clock::now();
-        if (wide.nodes.size() >= (std::size_t(1) << 30))
-            throw Error(Error::Kind::Limit, "the BVH's " + std::to_string(wide.nodes.size()) +
-                                                " nodes exceed the ray kernel's 2^30");
-        std::uint64_t node_bytes = std::max<std::uint64_t>(wide.nodes.size(), 1) * sizeof(clvis_bvh4_node);
-        std::uint64_t tri_bytes = std::max<std::uint64_t>(bvh.tris.size(), 1) * sizeof(clvis_bvh_tri);
-        device.check_allocation(node_bytes, "the BVH's " + std::to_string(wide.nodes.size()) + " nodes");
-        device.check_allocation(tri_bytes, "the BVH's " + std::to_string(bvh.tris.size()) + " triangles");
         try {
-            if (!nodes() || nodes.getInfo<CL_MEM_SIZE>() != node_bytes)
-                nodes = cl::Buffer(device.context, CL_MEM_READ_ONLY, node_bytes);
-            if (!tris() || tris.getInfo<CL_MEM_SIZE>() != tri_bytes)
-                tris = cl::Buffer(device.context, CL_MEM_READ_ONLY, tri_bytes);
-            if (!wide.nodes.empty())
-                queue.enqueueWriteBuffer(nodes, CL_FALSE, 0, wide.nodes.size() * sizeof(clvis_bvh4_node), wide.nodes.data());
-            if (!bvh.tris.empty())
-                queue.enqueueWriteBuffer(tris, CL_FALSE, 0, bvh.tris.size() * sizeof(clvis_bvh_tri), bvh.tris.data());
+            if (levels_too) {
+                check_nodes(levels.nodes().size());
+                put(level_nodes, levels.nodes(), "nodes", queue);
+                put(level_tris, levels.tris(), "triangles", queue);
+                put(instances, levels.instances(), "instances", queue);
+            } else {
+                check_nodes(wide.nodes.size());
+                put(nodes, wide.nodes, "nodes", queue);
+                put(tris, bvh.tris, "triangles", queue);
+                if (!instances()) put(instances, std::vector<clvis_instance>(), "instances", queue);
+            }
             queue.finish();
         } catch (const cl::Error& e) {
             throw_cl_error(e, "uploading the BVH to " + device.info.name);
         }
         stats.upload_ms = ms_since(t0);
+        stats.device_bytes = 0;
+        for (const cl::Buffer* b : {&nodes, &tris, &level_nodes, &level_tris, &instances})
+            if ((*b)()) stats.device_bytes += b->getInfo<CL_MEM_SIZE>();
     }
 
     void fill_stats(double build_ms, bool refitted)
     {
         stats.build_ms = build_ms;
-        stats.nodes = bvh.nodes.size();
-        stats.leaves = bvh.leaves;
-        stats.depth = bvh.depth;
-        stats.sah_cost = bvh.sah_cost;
+        stats.nodes = two_level ? levels.binary_nodes() : bvh.nodes.size();
+        stats.leaves = two_level ? levels.leaves() : bvh.leaves;
+        stats.depth = two_level ? levels.depth() : bvh.depth;
+        stats.sah_cost = two_level ? 0.0 : bvh.sah_cost;
         stats.refitted = refitted;
+        stats.instances = two_level ? levels.instances().size() : 0;
+        stats.prototype_builds = levels.prototype_builds();
+        stats.top_build_ms = two_level ? levels.top_ms() : 0.0;
     }
 
-    void rebuild(const Scene& scene, cl::CommandQueue& queue)
+    BvhBuildOptions build_options() const
     {
         BvhBuildOptions o;
         static_cast<BvhOptions&>(o) = options.bvh;
-        auto t0 = std::chrono::steady_clock::now();
-        bvh = build_bvh(scene.world_positions().data(), scene.world_indices().data(), scene.triangle_count(), o);
+        return o;
+    }
+
+    void build_flat(const Scene& scene, cl::CommandQueue& queue)
+    {
+        bvh = build_bvh(scene.world_positions().data(), scene.world_indices().data(), scene.triangle_count(),
+                        build_options());
         wide = collapse_bvh4(bvh);
-        fill_stats(ms_since(t0), false);
-        prepare_trace();
-        upload(queue);
+        flat_current = true;
+        upload(queue, false);
+    }
+
+    /// Builds everything `scene` needs: the flat BVH, or the two levels (prototype trees reused).
+    void rebuild(const Scene& scene, cl::CommandQueue& queue)
+    {
+        auto t0 = std::chrono::steady_clock::now();
+        two_level = false;
+        for (const Scene::Mesh& m : scene.meshes()) two_level |= m.prototype != Scene::no_prototype;
+        flat_current = false;
+        if (two_level) {
+            levels.update(scene, build_options());
+            fill_stats(ms_since(t0), levels.plain_refitted());
+            prepare_trace();
+            upload(queue, true);
+        } else {
+            build_flat(scene, queue);
+            fill_stats(ms_since(t0), false);
+            prepare_trace();
+        }
         built = true;
     }
 };
@@ -151,7 +214,8 @@ void RayPipeline::build(const Scene& scene, cl::CommandQueue& queue) { impl_->re
 void RayPipeline::update(const Scene& scene, cl::CommandQueue& queue)
 {
     Impl& m = *impl_;
-    if (!m.built || m.options.bvh.update == BvhUpdate::Rebuild || m.bvh.tris.size() != scene.triangle_count()) {
+    if (!m.built || m.two_level || m.options.bvh.update == BvhUpdate::Rebuild ||
+        m.bvh.tris.size() != scene.triangle_count()) {
         m.rebuild(scene, queue);
         return;
     }
@@ -159,7 +223,13 @@ void RayPipeline::update(const Scene& scene, cl::CommandQueue& queue)
     refit_bvh(m.bvh, scene.world_positions().data(), scene.world_indices().data());
     refit_bvh4(m.wide, m.bvh);
     m.fill_stats(ms_since(t0), true);
-    m.upload(queue);
+    m.upload(queue, false);
+}
+
+void RayPipeline::prepare_queries(const Scene& scene, cl::CommandQueue& queue)
+{
+    Impl& m = *impl_;
+    if (m.two_level && !m.flat_current) m.build_flat(scene, queue);
 }
 
 bool RayPipeline::built() const { return impl_->built; }
@@ -191,9 +261,7 @@ void RayPipeline::render(const DeviceScene& scene, Frame& frame, bool brute)
         cl::Kernel& k = m.trace;
         const cl::NDRange& g = m.trace_group;
         k.setArg(0, sizeof frame.gpu_camera, &frame.gpu_camera);
-        k.setArg(1, m.nodes);
-        k.setArg(2, cl_uint(m.wide.nodes.size()));
-        k.setArg(3, m.tris);
+        m.set_tree_args(k);
         k.setArg(4, cl_int(cull_mode(m.options.cull)));
         k.setArg(5, frame.keys);
         k.setArg(6, sizeof frame.region, &frame.region);
@@ -212,9 +280,7 @@ void RayPipeline::render_views(ViewsFrame& frame)
     cl::Kernel& k = m.trace_views;
     const cl::NDRange& g = m.views_group;
     k.setArg(0, frame.cameras);
-    k.setArg(1, m.nodes);
-    k.setArg(2, cl_uint(m.wide.nodes.size()));
-    k.setArg(3, m.tris);
+    m.set_tree_args(k);
     k.setArg(4, cl_int(cull_mode(m.options.cull)));
     k.setArg(5, frame.keys);
     k.setArg(6, cl_ulong(frame.stride));

@@ -147,9 +147,9 @@ void RayQuery::Impl::batch(RayQueryKind kind, const Source& src, const Sink& dst
     std::size_t group = built[int(kind)].group;
     int a = 0;
     if (options.brute) {
-        k.setArg(a++, r.gpu.positions);
-        k.setArg(a++, r.gpu.indices);
-        k.setArg(a++, cl_uint(r.gpu.triangle_count));
+        k.setArg(a++, r.scene_buffers().positions);
+        k.setArg(a++, r.scene_buffers().indices);
+        k.setArg(a++, cl_uint(r.scene_buffers().triangle_count));
     } else {
         k.setArg(a++, r.ray->nodes());
         k.setArg(a++, cl_uint(r.ray->node_count()));
@@ -192,7 +192,7 @@ RayQueryStats RayQuery::Impl::run(RayQueryKind kind, const Source& src, const Si
     stats.rays = n;
     if (n == 0) return stats;
     error_boundary(std::string("answering a ray query (") + to_string(kind) + ")", [&] {
-        if (!options.brute) r.ray_pipeline(true);
+        if (!options.brute) r.ray_pipeline(true).prepare_queries(r.scene, r.queue);
         reserve(std::min(n, options.batch_rays));
         for (std::size_t first = 0; first < n; first += capacity)
             batch(kind, src, dst, first, std::min(capacity, n - first), stats);

@@ -116,10 +116,15 @@ class RayPipeline {
 public:
     RayPipeline(Device::Impl& device, const RenderOptions& options);
     ~RayPipeline();
-    /// Builds the BVH of `scene` on the host and uploads it.
+    /// Builds the BVH of `scene` on the host and uploads it: one tree, or with instances one per
+    /// prototype and a top level (ray/bvh_instances.hpp).
     void build(const Scene& scene, cl::CommandQueue& queue);
-    /// Follows changed positions: refit or rebuild as options.bvh.update says.
+    /// Follows changed positions: refit or rebuild as options.bvh.update says; with instances,
+    /// only the plain meshes' tree and the top level change.
     void update(const Scene& scene, cl::CommandQueue& queue);
+    /// Makes nodes() and triangles() current for the ray queries: a scene with instances gets a
+    /// flat BVH of its expansion (ray_query.cl walks one tree).
+    void prepare_queries(const Scene& scene, cl::CommandQueue& queue);
     bool built() const;
     const BvhStats& stats() const;
     /// Enqueues the trace of one ray per pixel centre (through the BVH, or against every

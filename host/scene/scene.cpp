@@ -1,8 +1,11 @@
 // The host scene: items in order (meshes, and instances of prototypes stored once), validated on
 // entry, flattened to world space on demand. Ids are the concatenation of the items' triangles, as
-// CONVENTIONS.md says, so an instanced scene flattens to the bits of its expansion.
+// CONVENTIONS.md says, so an instanced scene flattens to the bits of its expansion; transformed
+// vertices are computed in float32 by kernels/shared/instance.h, as the kernels compute them.
 #include <clvis/error.hpp>
 #include <clvis/scene.hpp>
+
+#include "scene/instance_transform.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -157,19 +160,8 @@ const std::vector<float>& Scene::world_positions() const
         for (std::size_t k = 0; k < meshes_.size(); ++k) {
             const Mesh& m = meshes_[k];
             const MeshData& data = data_of(k);
-            const auto& p = data.positions;
-            bool identity = m.transform.is_identity();
-            for (std::size_t i = 0; i < p.size(); i += 3) {
-                if (identity) {
-                    std::copy(&p[i], &p[i] + 3, &world_positions_[v * 3 + i]);
-                } else {
-                    Vec3 w = m.transform.transform_point({p[i], p[i + 1], p[i + 2]});
-                    float* out = &world_positions_[v * 3 + i];
-                    out[0] = float(w.x);
-                    out[1] = float(w.y);
-                    out[2] = float(w.z);
-                }
-            }
+            detail::transform_positions(m.transform, data.positions.data(), data.vertex_count(),
+                                        &world_positions_[v * 3]);
             for (std::uint32_t index : data.indices) world_indices_[t++] = index + std::uint32_t(v);
             v += data.vertex_count();
         }

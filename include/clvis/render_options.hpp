@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -116,6 +117,13 @@ struct BvhStats {
     int depth = 0;
     double sah_cost = 0;
     bool refitted = false; ///< the last update refitted rather than rebuilt
+    /// A scene with instances (a two-level BVH): top-level entries (instances, and one for the
+    /// plain meshes), the top level's last build time, and prototype trees built so far (moving an
+    /// instance adds none).
+    std::size_t instances = 0;
+    double top_build_ms = 0;
+    std::size_t prototype_builds = 0;
+    std::uint64_t device_bytes = 0; ///< the BVH's device buffers (nodes, triangles, instances)
 };
 
 } // namespace clvis
