@@ -44,8 +44,8 @@ static void bind_generator(RayQuery::Impl& m, cl::Kernel& generate, const Visibi
     Renderer::Impl& r = m.r;
     generate.setArg(0, cl::Buffer(vis.keys(), true));
     generate.setArg(1, sizeof g, &g);
-    generate.setArg(2, r.gpu.positions);
-    generate.setArg(3, r.gpu.indices);
+    generate.setArg(2, r.scene_buffers().positions);
+    generate.setArg(3, r.scene_buffers().indices);
     generate.setArg(6, cl_uint(per_pixel));
     generate.setArg(7, float(surface_offset * diagonal(r.scene)));
     generate.setArg(8, rays);

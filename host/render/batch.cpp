@@ -90,8 +90,8 @@ void render_views(Renderer& renderer, const std::vector<Camera>& cameras, Path p
                 frame.gpu_camera = gpu[std::size_t(v)];
                 frame.keys = cl::Buffer(target.view(v).keys(), true);
                 frame.stages = &m.stages;
-                if (path == Path::Raster) m.raster->render(m.gpu, frame);
-                else m.ray->render(m.gpu, frame, true);
+                if (path == Path::Raster) m.raster->render(m.scene_buffers(), frame);
+                else m.ray->render(m.scene_buffers(), frame, true);
             }
         }
         m.queue.finish();

@@ -143,7 +143,11 @@ Renderer::Renderer(Device device, const Scene& scene, RenderOptions options) : i
         impl_->options = options;
         impl_->scene = scene;
         impl_->queue = impl_->dev().make_queue();
-        impl_->upload_all();
+        // A plain scene is uploaded now (errors surface here); one with instances when a path
+        // that reads the expansion first runs.
+        bool instanced = false;
+        for (const Scene::Mesh& item : scene.meshes()) instanced |= item.prototype != Scene::no_prototype;
+        if (!instanced) impl_->scene_buffers();
     });
 }
 
@@ -228,8 +232,8 @@ void Renderer::Impl::render(const Camera& camera, int width, int height, const R
     else ray_pipeline(path == Path::Ray);
     try {
         auto t0 = std::chrono::steady_clock::now();
-        if (path == Path::Raster) raster->render(gpu, frame);
-        else ray->render(gpu, frame, path == Path::Brute);
+        if (path == Path::Raster) raster->render(scene_buffers(), frame);
+        else ray->render(path == Path::Brute ? scene_buffers() : gpu, frame, path == Path::Brute);
         queue.finish();
         auto t1 = std::chrono::steady_clock::now();
         last.frame_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
@@ -278,7 +282,7 @@ void Renderer::Impl::update(const Scene& now_scene)
     for (std::size_t i = 0, c = 0; i < now.size(); ++i) {
         std::size_t vertices = m.scene.data_of(i).vertex_count();
         if (c < changed.size() && changed[c] == i) {
-            m.upload_positions(first, vertices);
+            if (m.uploaded) m.upload_positions(first, vertices);
             ++c;
         }
         first += vertices;

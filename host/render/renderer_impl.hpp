@@ -15,7 +15,8 @@ struct Renderer::Impl {
     RenderOptions options;
     Scene scene; ///< the host copy: BVH builds and refits read it
     cl::CommandQueue queue;
-    detail::DeviceScene gpu;
+    detail::DeviceScene gpu; ///< the expansion on the device: read it through scene_buffers()
+    bool uploaded = false;
     std::unique_ptr<detail::RasterPipeline> raster;
     std::unique_ptr<detail::RayPipeline> ray;
     FrameTiming last;
@@ -25,6 +26,14 @@ struct Renderer::Impl {
     Device::Impl& dev() { return *device.impl(); }
 
     void upload_all();
+    /// The expanded scene on the device, uploaded on first use: the ray path of a scene with
+    /// instances never needs it (a scene of 10,000 instances need not fit expanded).
+    detail::DeviceScene& scene_buffers()
+    {
+        if (!uploaded) upload_all();
+        uploaded = true;
+        return gpu;
+    }
     void upload_positions(std::size_t first_vertex, std::size_t count);
     detail::RayPipeline& ray_pipeline(bool need_bvh);
     detail::RasterPipeline& raster_pipeline();

@@ -112,7 +112,7 @@ void resolve(Renderer& renderer, const VisibilityBuffer& vis, const Camera& came
         clvis_camera_gpu g = make_gpu_camera(camera, vis.width(), vis.height());
         kernel.setArg(0, cl::Buffer(vis.keys(), true));
         kernel.setArg(1, sizeof g, &g);
-        r.gpu.set_args(kernel, 2);
+        r.scene_buffers().set_args(kernel, 2);
         int what = 0;
         for (int k = 0; k < attribute_count; ++k) {
             Attribute a = all_attributes[k];

@@ -34,7 +34,7 @@ Image shade(Renderer& renderer, const VisibilityBuffer& vis, const Camera& camer
         kernel.setArg(0, cl::Buffer(vis.keys(), true));
         kernel.setArg(1, out);
         kernel.setArg(2, sizeof g, &g);
-        r.gpu.set_args(kernel, 3);
+        r.scene_buffers().set_args(kernel, 3);
         kernel.setArg(8, cl_int(mode));
         kernel.setArg(9, float(light.x));
         kernel.setArg(10, float(light.y));
