@@ -29,14 +29,9 @@ double ms_since(std::chrono::steady_clock::time_point t0)
 Mat4 placement(int i, int side, double cell, double turn)
 {
     double a = 2.399963 * i + turn, s = 0.8 + 0.2 * ((i * 7919) % 101) / 100.0;
+    double c = s * std::cos(a), n = s * std::sin(a);
     Mat4 m;
-    m(0, 0) = s * std::cos(a);
-    m(0, 2) = s * std::sin(a);
-    m(2, 0) = -s * std::sin(a);
-    m(2, 2) = s * std::cos(a);
-    m(1, 1) = s;
-    m(0, 3) = cell * (i % side);
-    m(2, 3) = cell * (i / side);
+    m.m = {c, 0, n, cell * (i % side), 0, s, 0, 0, -n, 0, c, cell * (i / side), 0, 0, 0, 1};
     return m;
 }
 
