@@ -196,3 +196,22 @@ TEST_CASE("each instance adds a few dozen bytes of BVH on the device", "[device]
     CHECK(per_instance < 128);        // a 64-byte instance and its share of the top level's nodes
     CHECK(few > 48 * spot.triangle_count()); // the prototype's tree, stored once
 }
+
+TEST_CASE("an update refuses a changed prototype and follows a moved instance", "[device][instances]")
+{
+    Device device = Device::open();
+    Scene a = spots(true);
+    Renderer r(device, a);
+    Scene changed;
+    MeshData other = a.prototypes()[0];
+    other.positions[0] += 0.5f; // the same topology, another prototype
+    std::size_t p = changed.add_prototype(other);
+    for (std::size_t i = 0; i < a.meshes().size(); ++i) {
+        const Scene::Mesh& m = a.meshes()[i];
+        m.prototype == Scene::no_prototype ? changed.add_mesh(m.data, m.transform) : changed.add_instance(p, m.transform);
+    }
+    CHECK_THROWS_WITH(r.update(changed), Catch::Contains("mesh 1") && Catch::Contains("prototype"));
+    Scene plain_moved = a;
+    plain_moved.set_transform(0, placed(0.1, 0, {0, 0, -7}, {2, 2, 2}));
+    CHECK_NOTHROW(r.update(plain_moved)); // a plain mesh moves too, the instances stay
+}

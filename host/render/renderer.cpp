@@ -261,16 +261,22 @@ void Renderer::Impl::update(const Scene& now_scene)
         throw Error(Error::Kind::InvalidArgument, "Renderer::update: the scene has " + std::to_string(now.size()) +
                                                       " meshes, the renderer " + std::to_string(old.size()) +
                                                       "; make a new Renderer for a new scene");
+    // Each prototype compared once, not once per instance (10,000 instances of one mesh).
+    const auto& old_protos = m.scene.prototypes();
+    const auto& now_protos = now_scene.prototypes();
+    std::vector<char> proto_same(now_protos.size(), 0);
+    for (std::size_t p = 0; p < now_protos.size() && p < old_protos.size(); ++p)
+        proto_same[p] = now_protos[p].positions == old_protos[p].positions && now_protos[p].indices == old_protos[p].indices;
     std::vector<std::size_t> changed;
     for (std::size_t i = 0; i < now.size(); ++i) {
-        const MeshData& a = now_scene.data_of(i);
-        const MeshData& b = m.scene.data_of(i);
         bool instance = now[i].prototype != Scene::no_prototype;
-        if (now[i].prototype != old[i].prototype || a.vertex_count() != b.vertex_count() || a.indices != b.indices ||
-            (instance && a.positions != b.positions))
+        if (instance ? (now[i].prototype != old[i].prototype || !proto_same[now[i].prototype])
+                     : (old[i].prototype != Scene::no_prototype || now[i].data.vertex_count() != old[i].data.vertex_count() ||
+                        now[i].data.indices != old[i].data.indices))
             throw Error(Error::Kind::InvalidArgument, "Renderer::update: mesh " + std::to_string(i) +
                                                           " changed its topology or prototype; make a new Renderer");
-        if (a.positions != b.positions || now[i].transform.m != old[i].transform.m) changed.push_back(i);
+        if ((!instance && now[i].data.positions != old[i].data.positions) || now[i].transform.m != old[i].transform.m)
+            changed.push_back(i);
     }
     if (changed.empty()) return;
     for (std::size_t i : changed) {
