@@ -2,7 +2,8 @@
    queries"), one ray per work-item, through the 4-wide BVH that ray_trace.cl reads (shared/bvh.h);
    ray_query_brute tests every triangle in id order instead, the reference the BVH walk must
    equal. Rays and results live in buffers of either layout (shared/ray_query.h). Launched by
-   host/ray_query.cpp, built once per query kind (CLVIS_QUERY) and stack size (CLVIS_RAY_STACK).
+   host/ray_query.cpp, built once per query kind (CLVIS_QUERY) and stack size (CLVIS_RAY_STACK), on
+   PoCL's CPU device with CLVIS_PREFETCH.
    No packet assumption: incoherent rays (ambient occlusion, shadows, random) walk on their own. */
 #include "shared/bvh.h"
 #include "shared/ray.h"
@@ -73,15 +74,20 @@ static int test_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_ve
 {
     float t;
 #if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
-    float u, v;
-    if (clvis_intersect_triangle_uv(s, a, b, c, tmin, tmax, &t, &u, &v)) {
-        t = t + 0.0f; /* -0 becomes +0: the key orders by bits */
-        if (t < ans->t || (t == ans->t && id < ans->id)) {
-            ans->t = t;
-            ans->id = id;
-            ans->u = u;
-            ans->v = v;
-        }
+    /* clvis_intersect_triangle_uv's operations, each division only once the hit needs it: a ray
+       outside the triangle pays none, one farther than the nearest hit pays no barycentrics. */
+    clvis_tri_2d p = clvis_project_triangle(s, a, b, c);
+    int inside = (p.u >= 0.0f && p.v >= 0.0f && p.w >= 0.0f) || (p.u <= 0.0f && p.v <= 0.0f && p.w <= 0.0f);
+    float det = p.u + p.v + p.w;
+    if (!inside || det == 0.0f) return 0;
+    t = clvis_triangle_t(s, p, det);
+    if (!(t >= tmin && t <= tmax)) return 0;
+    t = t + 0.0f; /* -0 becomes +0: the key orders by bits */
+    if (t < ans->t || (t == ans->t && id < ans->id)) {
+        ans->t = t;
+        ans->id = id;
+        ans->u = p.v / det;
+        ans->v = p.w / det;
     }
     return 0;
 #elif CLVIS_QUERY == CLVIS_QUERY_ANY
@@ -144,6 +150,25 @@ static int4 hits_boxes(__global const clvis_bvh4_node* n, clvis_box_ray br, floa
     return (t0 <= t1) & (t0 <= (float4)(far_t * CLVIS_IZE_SCALE));
 }
 
+/* CLVIS_PREFETCH (PoCL's CPU device, set by host/ray/ray_query.cpp): a child the ray meets is
+   fetched into the cache when it is pushed, so that the (up to four) misses of one node's
+   children overlap instead of each stalling the walk when it is popped. A hint only: the walk
+   reads the same values with or without it. */
+#ifdef CLVIS_PREFETCH
+#define CLVIS_PREFETCH_LINE(p) __builtin_prefetch((const void*)(ulong)(p))
+#endif
+static void clvis_prefetch_child(__global const clvis_bvh4_node* nodes, __global const clvis_bvh_tri* tris,
+                                 __global const clvis_bvh4_node* n, int k)
+{
+#ifdef CLVIS_PREFETCH
+    /* a node's first two cache lines, or a leaf's first triangles (past the end: no fault) */
+    __global const char* p = n->count[k] == 0 ? (__global const char*)(nodes + n->child[k])
+                                              : (__global const char*)(tris + n->child[k]);
+    CLVIS_PREFETCH_LINE(p);
+    CLVIS_PREFETCH_LINE(p + 64);
+#endif
+}
+
 /* The walk: children that the ray meets are pushed far to near (closest: by entry distance) as
    (node << 2 | slot) with their entry distance, and popped while they may still hold a hit
    before the nearest so far. */
@@ -168,6 +193,7 @@ static void walk(__global const clvis_bvh4_node* nodes, __global const clvis_bvh
         uint first = sp;
         for (int k = 0; k < 4; ++k) {
             if (!h[k]) continue;
+            clvis_prefetch_child(nodes, tris, n, k);
             /* insertion from the top: entries above `first` stay sorted, nearest on top */
             uint i = sp++;
 #if CLVIS_QUERY == CLVIS_QUERY_CLOSEST

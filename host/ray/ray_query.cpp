@@ -79,6 +79,20 @@ RayQuery::Impl::Impl(Renderer& renderer, const RayQueryOptions& o) : r(RendererA
     if (!options.brute) error_boundary("preparing the ray queries", [&] { return &r.ray_pipeline(true); });
 }
 
+namespace {
+
+/// Whether the walk prefetches the children it pushes (kernels/ray_query.cl, CLVIS_PREFETCH):
+/// on PoCL's CPU device, whose compiler (clang) turns __builtin_prefetch into the CPU's prefetch.
+/// Elsewhere the hint is left out (other compilers, Oclgrind's interpreter, GPUs).
+bool prefetches(const cl::Device& device)
+{
+    if (!(device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU)) return false;
+    std::string platform = cl::Platform(device.getInfo<CL_DEVICE_PLATFORM>()).getInfo<CL_PLATFORM_NAME>();
+    return platform.find("Portable Computing Language") != std::string::npos;
+}
+
+} // namespace
+
 cl::Kernel& RayQuery::Impl::kernel(RayQueryKind kind)
 {
     int depth = options.brute ? 0 : r.ray->wide_depth();
@@ -86,6 +100,7 @@ cl::Kernel& RayQuery::Impl::kernel(RayQueryKind kind)
     Built& b = built[int(kind)];
     if (b.stack != stack) {
         std::string defs = "-DCLVIS_QUERY=" + std::to_string(int(kind)) + " -DCLVIS_RAY_STACK=" + std::to_string(stack);
+        if (!options.brute && prefetches(r.dev().device)) defs += " -DCLVIS_PREFETCH=1";
         b.kernel = cl::Kernel(r.dev().program("ray_query", defs), options.brute ? "ray_query_brute" : "ray_query");
         std::size_t max_group = b.kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(r.dev().device);
         b.group = std::max<std::size_t>(1, std::min(group_items, max_group));
