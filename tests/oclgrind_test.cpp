@@ -230,3 +230,28 @@ TEST_CASE("tile and BVH leaf sizes other than the defaults run clean on Oclgrind
         }
     }
 }
+
+TEST_CASE("the two-level walk of instances runs clean on Oclgrind in both coverage modes", "[.oclgrind]")
+{
+    // The first case's mesh as a prototype: a plain copy, then three instances (one mirrored).
+    Device pocl = Device::open("portable computing language");
+    Case c = std::move(cases().front());
+    Case inst{c.name + " instanced", Scene{}, c.camera, c.width, c.height};
+    MeshData m = c.scene.data_of(0);
+    inst.scene.add_mesh(m);
+    std::size_t p = inst.scene.add_prototype(m);
+    for (double s : {0.5, -0.7, 0.9}) {
+        Mat4 t;
+        t(0, 0) = s;
+        t(1, 1) = std::fabs(s);
+        t(2, 2) = 0.8;
+        t(0, 3) = 0.2 * s;
+        inst.scene.add_instance(p, t);
+    }
+    for (Coverage coverage : {Coverage::Watertight, Coverage::RasterRule}) {
+        RenderOptions o;
+        o.coverage = coverage;
+        INFO(to_string(coverage));
+        check_on_grind(pocl, inst, Path::Ray, o);
+    }
+}
