@@ -36,6 +36,20 @@ double diagonal(const Scene& scene)
 
 } // namespace
 
+void RayQuery::Impl::reserve_generated(std::size_t rays)
+{
+    if (rays <= generated_capacity) return;
+    r.dev().check_allocation(std::uint64_t(rays) * sizeof(RayRecord),
+                             "a chunk of " + std::to_string(rays) + " generated rays");
+    try {
+        generated_rays = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, rays * sizeof(RayRecord));
+        generated_flags = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, rays);
+    } catch (const cl::Error& e) {
+        throw_cl_error(e, "allocating " + std::to_string(rays) + " generated rays");
+    }
+    generated_capacity = rays;
+}
+
 /// Sets the arguments of a generator kernel that stay the same from chunk to chunk (its
 /// arguments from 9 on are set by the caller).
 static void bind_generator(RayQuery::Impl& m, cl::Kernel& generate, const VisibilityBuffer& vis,
@@ -80,13 +94,12 @@ static PixelRays pixel_rays(RayQuery::Impl& m, const VisibilityBuffer& vis, cons
     std::size_t pixels = std::size_t(out.width) * std::size_t(out.height);
     out.value.assign(pixels, 1.0f);
     std::size_t chunk = chunk_pixels(m, pixels, per_pixel), chunk_rays = chunk * std::size_t(per_pixel);
-    r.dev().check_allocation(chunk_rays * sizeof(RayRecord), "a chunk of " + std::to_string(chunk_rays) + " generated rays");
     std::vector<std::uint8_t> flags(chunk_rays);
     std::vector<std::uint64_t> keys = vis.read_keys();
     std::size_t background_rays = 0;
     try {
-        cl::Buffer rays(r.dev().context, CL_MEM_READ_WRITE, chunk_rays * sizeof(RayRecord));
-        cl::Buffer hit(r.dev().context, CL_MEM_READ_WRITE, chunk_rays);
+        m.reserve_generated(chunk_rays);
+        const cl::Buffer &rays = m.generated_rays, &hit = m.generated_flags;
         bind_generator(m, generate, vis, make_gpu_camera(camera, out.width, out.height), per_pixel, rays);
         for (std::size_t first = 0; first < pixels; first += chunk) {
             std::size_t n = std::min(chunk, pixels - first), n_rays = n * std::size_t(per_pixel);
@@ -151,14 +164,13 @@ std::vector<RayRecord> RayQuery::ambient_occlusion_rays(const VisibilityBuffer& 
         cl::Kernel& generate = ao_generator(m, vis, options);
         std::size_t pixels = std::size_t(vis.width()) * std::size_t(vis.height()), per = std::size_t(options.rays);
         std::size_t chunk = chunk_pixels(m, pixels, options.rays);
-        m.r.dev().check_allocation(chunk * per * sizeof(RayRecord), "a chunk of " + std::to_string(chunk * per) + " generated rays");
+        m.reserve_generated(chunk * per);
         std::vector<RayRecord> out(pixels * per);
-        cl::Buffer rays(m.r.dev().context, CL_MEM_READ_WRITE, chunk * per * sizeof(RayRecord));
-        bind_generator(m, generate, vis, make_gpu_camera(camera, vis.width(), vis.height()), options.rays, rays);
+        bind_generator(m, generate, vis, make_gpu_camera(camera, vis.width(), vis.height()), options.rays, m.generated_rays);
         for (std::size_t first = 0; first < pixels; first += chunk) {
             std::size_t n = std::min(chunk, pixels - first);
             generate_chunk(m, generate, first, n, options.rays);
-            m.r.queue.enqueueReadBuffer(rays, CL_TRUE, 0, n * per * sizeof(RayRecord), &out[first * per]);
+            m.r.queue.enqueueReadBuffer(m.generated_rays, CL_TRUE, 0, n * per * sizeof(RayRecord), &out[first * per]);
         }
         return out;
     });

@@ -24,6 +24,9 @@ struct RayQuery::Impl {
     cl::Buffer staged_rays;       ///< capacity rays, AoS or SoA
     cl::Buffer staged_out;        ///< capacity hits, flags or counts
     cl::Buffer invalid;           ///< one uint: invalid rays seen by a batch
+    std::size_t generated_capacity = 0; ///< rays the generator's buffers hold
+    cl::Buffer generated_rays;          ///< generated_capacity AoS rays (ray_generate.cpp)
+    cl::Buffer generated_flags;         ///< generated_capacity any-hit flags
 
     /// Where a call's rays are, checked.
     struct Source {
@@ -41,6 +44,8 @@ struct RayQuery::Impl {
     Impl(Renderer& renderer, const RayQueryOptions& options);
     cl::Kernel& kernel(RayQueryKind kind);
     void reserve(std::size_t rays);
+    /// Grows the generator's buffers to hold `rays` rays (kept from call to call).
+    void reserve_generated(std::size_t rays);
     void batch(RayQueryKind kind, const Source& src, const Sink& dst, std::size_t first, std::size_t m,
                RayQueryStats& stats);
     RayQueryStats run(RayQueryKind kind, const Source& src, const Sink& dst);
