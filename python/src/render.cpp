@@ -206,7 +206,11 @@ void bind_timing(nb::module_& m)
         .def_ro("leaves", &BvhStats::leaves)
         .def_ro("depth", &BvhStats::depth)
         .def_ro("sah_cost", &BvhStats::sah_cost)
-        .def_ro("refitted", &BvhStats::refitted);
+        .def_ro("refitted", &BvhStats::refitted)
+        .def_ro("instances", &BvhStats::instances, "top-level entries of a two-level BVH (0 without instances)")
+        .def_ro("top_build_ms", &BvhStats::top_build_ms, "the top level's last build, in ms")
+        .def_ro("prototype_builds", &BvhStats::prototype_builds, "prototype trees built so far")
+        .def_ro("device_bytes", &BvhStats::device_bytes, "the BVH's device buffers, in bytes");
 }
 
 /// `obj` as an (H, W) array of `dtype` ("uint32" ids, "float32" depths), its size in width and

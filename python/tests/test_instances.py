@@ -77,6 +77,20 @@ def test_a_moved_instance_is_seen_after_update(device, sphere_mesh):
     assert (before != want[1].ids).any()
 
 
+def test_moving_an_instance_rebuilds_only_the_top_level(device, sphere_mesh):
+    scene, _, items = instanced(sphere_mesh, TRANSFORMS)
+    camera = clvis.Camera.framing(expanded(sphere_mesh, TRANSFORMS).bounds())
+    renderer = clvis.Renderer(device, scene)
+    renderer.render(camera, W, H, path="ray")
+    first = renderer.bvh_stats
+    assert (first.instances, first.prototype_builds) == (4, 1)  # three instances and the plain mesh
+    assert first.device_bytes > 0 and first.top_build_ms >= 0
+    scene.set_transform(items[0], translation(-1.0, 0.1, 0))
+    renderer.update(scene)
+    renderer.render(camera, W, H, path="ray")
+    assert renderer.bvh_stats.prototype_builds == 1
+
+
 def write_gltf(path):
     """One triangle mesh used by two nodes (translated by x = -1 and x = +1)."""
     positions = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32).tobytes()
