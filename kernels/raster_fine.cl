@@ -51,14 +51,19 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
         for (int s = 0; 8 * s <= px1 - px0; ++s) {
             ulong8 b = best[j - py0][s];
             int i0 = px0 + 8 * s, count = min(8, px1 - i0 + 1);
-            __global ulong* row = keys + (size_t)j * (size_t)region.width + (size_t)i0;
+            /* the camera's sample of each pixel: samples of a pixel are adjacent (shared/samples.h) */
+            int n_log2 = cam.sample_log2;
+            __global ulong* row = keys + (((size_t)j * (size_t)region.width + (size_t)i0) << n_log2) + (size_t)cam.sample;
             if (merge && all(b == (ulong8)(CLVIS_BACKGROUND_KEY))) continue; /* nothing to merge */
-            if (count == 8) {
+            if (count == 8 && n_log2 == 0) {
                 vstore8(merge ? min(b, vload8(0, row)) : b, 0, row);
             } else {
                 ulong lane[8];
                 vstore8(b, 0, lane);
-                for (int l = 0; l < count; ++l) row[l] = merge ? min(row[l], lane[l]) : lane[l];
+                for (int l = 0; l < count; ++l) {
+                    size_t o = (size_t)l << n_log2;
+                    row[o] = merge ? min(row[o], lane[l]) : lane[l];
+                }
             }
         }
     }

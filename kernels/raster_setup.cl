@@ -41,18 +41,25 @@ static void list_triangle(const clvis_raster_tri* t, raster_setup_out out)
     if (slot < out.capacity) out.tris[slot] = *t;
 }
 
-/* Rasterizes a small triangle on the spot (atomic mode), or lists it for binning. */
+/* Rasterizes a small triangle on the spot (atomic mode), or lists it for binning: at the camera's
+   sample (shared/samples.h), one launch per sample. */
 static void emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_raster_vertex c, uint id,
                           raster_setup_out out)
 {
     clvis_raster_tri t;
-    if (!clvis_raster_setup_region(a, b, c, id, out.region, out.cull, &t)) return;
+    if (!clvis_raster_setup_region(clvis_raster_vertex_at_sample(a, out.cam), clvis_raster_vertex_at_sample(b, out.cam),
+                                   clvis_raster_vertex_at_sample(c, out.cam), id, out.region, out.cull, &t))
+        return;
+    /* Key of the camera's sample of region pixel p: the samples of a pixel are adjacent. */
+    int n_log2 = out.cam.sample_log2;
+    size_t sample = (size_t)out.cam.sample;
 #ifndef CLVIS_RASTER_OWNED
     if ((t.x1 - t.x0 + 1) * (t.y1 - t.y0 + 1) <= CLVIS_RASTER_SCALAR) {
         for (int j = t.y0; j <= t.y1; ++j) {
             for (int i = t.x0; i <= t.x1; ++i) {
                 ulong key = clvis_raster_sample(&t, i, j, out.cam.ortho, out.cam.near_d, out.cam.far_d);
-                if (key != CLVIS_BACKGROUND_KEY) atom_min(&out.keys[(size_t)j * out.region.width + i], key);
+                if (key != CLVIS_BACKGROUND_KEY)
+                    atom_min(&out.keys[(((size_t)j * out.region.width + i) << n_log2) + sample], key);
             }
         }
         return;
@@ -67,9 +74,10 @@ static void emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_ra
             if (all(key == (ulong8)(CLVIS_BACKGROUND_KEY))) continue;
             ulong lane[8];
             vstore8(key, 0, lane);
-            volatile __global ulong* row = out.keys + (size_t)j * (size_t)out.region.width + (size_t)t.x0;
+            volatile __global ulong* row =
+                out.keys + (((size_t)j * (size_t)out.region.width + (size_t)t.x0) << n_log2) + sample;
             for (int l = 0; l < 8; ++l)
-                if (lane[l] != CLVIS_BACKGROUND_KEY) atom_min(&row[l], lane[l]);
+                if (lane[l] != CLVIS_BACKGROUND_KEY) atom_min(&row[(size_t)l << n_log2], lane[l]);
         }
         return;
     }

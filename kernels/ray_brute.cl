@@ -1,4 +1,4 @@
-/* Casts one primary ray per pixel centre against every triangle of the scene, in id order, with
+/* Casts one primary ray per pixel centre (or per sample: one launch per sample) against every triangle of the scene, in id order, with
    the same watertight test as ray_trace.cl but no BVH: the reference the BVH path must equal,
    and the brute path of host/ray/ray_pipeline.cpp for small scenes. Built with CLVIS_RASTER_RULE
    (RenderOptions::coverage), each triangle covers the pixel and gives it the depth the raster path
@@ -33,7 +33,8 @@ __kernel void ray_brute(clvis_camera_gpu cam, __global const float* positions, _
     }
 #else
     clvis_vec3 origin, dir;
-    clvis_primary_ray(cam, (float)px + 0.5f, (float)py + 0.5f, &origin, &dir);
+    clvis_primary_ray(cam, (float)px + clvis_sample_fraction(cam.sample_log2, cam.sample, 0),
+                      (float)py + clvis_sample_fraction(cam.sample_log2, cam.sample, 1), &origin, &dir);
     clvis_ray_shear ray = clvis_make_shear(origin, dir);
     for (uint id = 0; id < triangle_count; ++id) {
         size_t i = 3 * (size_t)id;
@@ -44,5 +45,5 @@ __kernel void ray_brute(clvis_camera_gpu cam, __global const float* positions, _
         best = hit && key < best ? key : best;
     }
 #endif
-    keys[(size_t)ly * (size_t)region.width + (size_t)lx] = best;
+    keys[(((size_t)ly * (size_t)region.width + (size_t)lx) << cam.sample_log2) + (size_t)cam.sample] = best;
 }

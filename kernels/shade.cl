@@ -30,43 +30,33 @@ static uchar4 rgba(float r, float g, float b)
     return (uchar4)((uchar)(r * 255.0f + 0.5f), (uchar)(g * 255.0f + 0.5f), (uchar)(b * 255.0f + 0.5f), 255);
 }
 
-static uchar4 id_colour(uint id)
+static clvis_vec3 id_colour(uint id)
 {
     /* a 32-bit integer hash (lowbias32), one byte per channel */
     uint h = id;
     h ^= h >> 16; h *= 0x7feb352du; h ^= h >> 15; h *= 0x846ca68bu; h ^= h >> 16;
-    return rgba(0.2f + 0.8f * (h & 255u) / 255.0f, 0.2f + 0.8f * ((h >> 8) & 255u) / 255.0f,
+    return v3(0.2f + 0.8f * (h & 255u) / 255.0f, 0.2f + 0.8f * ((h >> 8) & 255u) / 255.0f,
                 0.2f + 0.8f * ((h >> 16) & 255u) / 255.0f);
 }
 
-__kernel void shade(__global const ulong* keys, __global uchar4* out, clvis_camera_gpu cam,
-                    __global const float* positions, __global const uint* indices,
-                    __global const float* normals, int has_normals, uint triangle_count,
-                    int mode, float light_x, float light_y, float light_z)
+/* The colour of one sample (each channel in [0, 1]) whose key is `key`, the ray through raster
+   position (rx, ry). */
+static clvis_vec3 shade_sample(ulong key, float rx, float ry, clvis_camera_gpu cam, __global const float* positions,
+                               __global const uint* indices, __global const float* normals, int has_normals,
+                               uint triangle_count, int mode, clvis_vec3 light)
 {
-    int x = get_global_id(0), y = get_global_id(1);
-    if (x >= cam.width || y >= cam.height) return;
-    size_t pixel = (size_t)y * cam.width + x;
-    ulong key = keys[pixel];
     uint id = clvis_key_id(key);
-    if (id == CLVIS_BACKGROUND_ID || id >= triangle_count) {
-        out[pixel] = (uchar4)(24, 24, 28, 255);
-        return;
-    }
+    if (id == CLVIS_BACKGROUND_ID || id >= triangle_count) return v3(24.0f / 255.0f, 24.0f / 255.0f, 28.0f / 255.0f);
     float depth = clvis_key_depth(key);
-    if (mode == CLVIS_SHADE_IDS) {
-        out[pixel] = id_colour(id);
-        return;
-    }
+    if (mode == CLVIS_SHADE_IDS) return id_colour(id);
     if (mode == CLVIS_SHADE_DEPTH) {
-        float g = 1.0f - (depth - cam.near_d) / (cam.far_d - cam.near_d);
-        out[pixel] = rgba(g, g, g);
-        return;
+        float g = clamp(1.0f - (depth - cam.near_d) / (cam.far_d - cam.near_d), 0.0f, 1.0f);
+        return v3(g, g, g);
     }
     uint i0 = indices[3 * id], i1 = indices[3 * id + 1], i2 = indices[3 * id + 2];
     clvis_vec3 p0 = load3(positions, i0), p1 = load3(positions, i1), p2 = load3(positions, i2);
     clvis_vec3 o, d;
-    clvis_primary_ray(cam, x + 0.5f, y + 0.5f, &o, &d);
+    clvis_primary_ray(cam, rx, ry, &o, &d);
     clvis_vec3 dir = unit3(d);
     clvis_vec3 n = cross3(sub3(p1, p0), sub3(p2, p0));
     float area2 = sqrt(dot3(n, n));
@@ -82,9 +72,30 @@ __kernel void shade(__global const ulong* keys, __global uchar4* out, clvis_came
         if (dot3(s, s) > 0.0f) n = unit3(s);
     }
     if (dot3(n, dir) > 0.0f) n = scale3(n, -1.0f); /* two-sided: face the viewer */
-    clvis_vec3 light = unit3(v3(light_x, light_y, light_z));
     float lambert = fmax(-dot3(n, light), 0.0f);
     float facing = fmax(-dot3(n, dir), 0.0f);
     float k = 0.10f + 0.65f * lambert + 0.25f * facing;
-    out[pixel] = rgba(0.85f * k, 0.80f * k, 0.72f * k);
+    return v3(clamp(0.85f * k, 0.0f, 1.0f), clamp(0.80f * k, 0.0f, 1.0f), clamp(0.72f * k, 0.0f, 1.0f));
+}
+
+/* One pixel: the mean of its samples' colours (cam.sample_log2, shared/samples.h), so several
+   samples per pixel give an anti-aliased image; one sample is shaded as it always was. */
+__kernel void shade(__global const ulong* keys, __global uchar4* out, clvis_camera_gpu cam,
+                    __global const float* positions, __global const uint* indices,
+                    __global const float* normals, int has_normals, uint triangle_count,
+                    int mode, float light_x, float light_y, float light_z)
+{
+    int x = get_global_id(0), y = get_global_id(1);
+    if (x >= cam.width || y >= cam.height) return;
+    size_t pixel = (size_t)y * cam.width + x;
+    clvis_vec3 light = unit3(v3(light_x, light_y, light_z));
+    int n = 1 << cam.sample_log2;
+    clvis_vec3 sum = v3(0.0f, 0.0f, 0.0f);
+    for (int k = 0; k < n; ++k) {
+        float rx = (float)x + clvis_sample_fraction(cam.sample_log2, k, 0);
+        float ry = (float)y + clvis_sample_fraction(cam.sample_log2, k, 1);
+        sum = add3(sum, shade_sample(keys[(pixel << cam.sample_log2) + (size_t)k], rx, ry, cam, positions, indices,
+                                     normals, has_normals, triangle_count, mode, light));
+    }
+    out[pixel] = rgba(sum.x / (float)n, sum.y / (float)n, sum.z / (float)n);
 }

@@ -174,8 +174,8 @@ struct RasterPipeline::Impl {
                             " tiles needs; use a larger tile size or a smaller image");
     }
 
-    /// Runs setup and returns how many triangles it listed for binning (all of them stored).
-    std::size_t run_setup(const DeviceScene& scene, Frame& frame)
+    /// raster_setup_vertices: every vertex projected and snapped once.
+    void project_vertices(const DeviceScene& scene, Frame& frame)
     {
         cl::Event projected_done;
         vertices.setArg(0, sizeof frame.gpu_camera, &frame.gpu_camera);
@@ -185,6 +185,13 @@ struct RasterPipeline::Impl {
         frame.queue.enqueueNDRangeKernel(vertices, cl::NullRange, cl::NDRange(round_up(scene.vertex_count, vertex_group)),
                                          cl::NDRange(vertex_group), nullptr, &projected_done);
         frame.stages->add("setup", projected_done);
+    }
+
+    /// Runs setup and returns how many triangles it listed for binning (all of them stored);
+    /// projects the vertices first when `project` (once per frame: they do not depend on the sample).
+    std::size_t run_setup(const DeviceScene& scene, Frame& frame, bool project)
+    {
+        if (project) project_vertices(scene, frame);
         for (;;) {
             cl::Event done;
             zero_words(frame, counters, 4, "setup");
@@ -236,11 +243,25 @@ struct RasterPipeline::Impl {
             tile_capacity = tiles + 1;
         }
         // Tile ownership writes every key in raster_fine.cl: the clear is needed only when
-        // nothing is listed (and raster_fine.cl does not run).
-        if (!owned) clear_keys(clear, frame);
-        std::size_t listed = run_setup(scene, frame);
+        // nothing is listed (and raster_fine.cl does not run), which with several samples per
+        // pixel one sample may meet while another draws, so then the clear comes first.
+        int samples = 1 << frame.gpu_camera.sample_log2;
+        if (!owned || samples > 1) clear_keys(clear, frame);
+        // One pass per sample (shared/samples.h): setup moves the snapped vertices by minus the
+        // sample's offset, and every stage after it is the one-sample path's.
+        for (int sample = 0; sample < samples; ++sample) {
+            frame.gpu_camera.sample = sample;
+            render_sample(scene, frame, sample == 0);
+        }
+        frame.gpu_camera.sample = 0;
+    }
+
+    /// The stages after the clear for frame.gpu_camera.sample: setup, binning, raster_fine.cl.
+    void render_sample(const DeviceScene& scene, Frame& frame, bool project)
+    {
+        std::size_t listed = run_setup(scene, frame, project);
         if (listed == 0) {
-            if (owned) clear_keys(clear, frame);
+            if (owned && frame.gpu_camera.sample_log2 == 0) clear_keys(clear, frame);
             return;
         }
 

@@ -198,6 +198,9 @@ struct RayPipeline::Impl {
         }
         built = true;
     }
+
+    /// Enqueues the trace of frame.gpu_camera.sample of every pixel.
+    void render_sample(const DeviceScene& scene, Frame& frame, bool brute);
 };
 
 RayPipeline::RayPipeline(Device::Impl& device, const RenderOptions& options)
@@ -242,7 +245,17 @@ int RayPipeline::wide_depth() const { return impl_->wide.depth; }
 
 void RayPipeline::render(const DeviceScene& scene, Frame& frame, bool brute)
 {
-    Impl& m = *impl_;
+    // One launch per sample (shared/samples.h): each lane's ray goes through its pixel's sample.
+    for (int sample = 0; sample < 1 << frame.gpu_camera.sample_log2; ++sample) {
+        frame.gpu_camera.sample = sample;
+        impl_->render_sample(scene, frame, brute);
+    }
+    frame.gpu_camera.sample = 0;
+}
+
+void RayPipeline::Impl::render_sample(const DeviceScene& scene, Frame& frame, bool brute)
+{
+    Impl& m = *this;
     cl::Event done;
     if (brute) {
         cl::Kernel& k = m.brute;

@@ -61,6 +61,10 @@ void render_views(Renderer& renderer, const std::vector<Camera>& cameras, Path p
         throw Error(Error::Kind::InvalidArgument, "render_views: " + std::to_string(cameras.size()) +
                                                       " cameras for a batch of " + std::to_string(target.views()));
     Renderer::Impl& m = RendererAccess::of(renderer, "render_views");
+    if (m.options.samples != 1)
+        throw Error(Error::Kind::InvalidArgument,
+                    "render_views: a batch holds one sample per pixel, the Renderer's options ask for " +
+                        std::to_string(m.options.samples) + " (render those views one by one)");
     if (target.view(0).device().context() != m.device.context())
         throw Error(Error::Kind::InvalidArgument, "render_views: the batch belongs to another OpenCL context");
     renderer.prepare(path);

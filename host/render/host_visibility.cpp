@@ -7,12 +7,13 @@ namespace clvis {
 
 static_assert(background_key == CLVIS_BACKGROUND_KEY, "host and kernels agree on the background");
 
-HostVisibility split_keys(const std::uint64_t* keys, int width, int height)
+HostVisibility split_keys(const std::uint64_t* keys, int width, int height, int samples)
 {
     HostVisibility v;
     v.width = width;
     v.height = height;
-    std::size_t n = std::size_t(width) * std::size_t(height);
+    v.samples = samples;
+    std::size_t n = std::size_t(width) * std::size_t(height) * std::size_t(samples);
     v.ids.resize(n);
     v.depth.resize(n);
     for (std::size_t i = 0; i < n; ++i) {

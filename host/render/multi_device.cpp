@@ -101,6 +101,9 @@ MultiDeviceRenderer::MultiDeviceRenderer(const std::vector<Device>& devices, con
     if (!options.region.whole())
         throw Error(Error::Kind::InvalidArgument, "MultiDeviceRenderer: options.region must be the whole image "
                                                   "(the renderer cuts the frame into tiles itself)");
+    if (options.samples != 1)
+        throw Error(Error::Kind::InvalidArgument, "MultiDeviceRenderer: draws one sample per pixel, the options ask for " +
+                                                      std::to_string(options.samples));
     for (std::size_t i = 0; i < devices.size(); ++i) {
         try {
             renderers_.emplace_back(devices[i], scene, options);

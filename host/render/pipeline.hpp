@@ -54,8 +54,9 @@ private:
 /// One frame's inputs.
 struct Frame {
     cl::CommandQueue queue;
-    clvis_camera_gpu gpu_camera{};   ///< the same in float32 for the kernels
-    cl::Buffer keys;                 ///< width * height keys, row 0 on top
+    clvis_camera_gpu gpu_camera{};   ///< the same in float32 for the kernels; sample_log2 set,
+                                     ///< each path draws every sample (sets `sample` per launch)
+    cl::Buffer keys;                 ///< width * height * samples keys, row 0 on top
     int width = 0, height = 0;       ///< of the region drawn (keys' size); gpu_camera has the image's
     clvis_region region{};           ///< the pixels drawn, in the image (shared/region.h)
     StageRecorder* stages = nullptr;

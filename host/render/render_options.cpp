@@ -48,6 +48,14 @@ RasterAtomics raster_atomics_from_string(const std::string& name)
     throw Error(Error::Kind::InvalidArgument, "unknown raster atomics mode '" + name + "' (auto, on or off)");
 }
 
+int samples_log2(int samples)
+{
+    for (int k = 0; k <= 4; ++k)
+        if (samples == 1 << k) return k;
+    throw Error(Error::Kind::InvalidArgument,
+                "samples per pixel must be 1, 2, 4, 8 or 16, got " + std::to_string(samples));
+}
+
 Coverage coverage_from_string(const std::string& name)
 {
     for (Coverage c : {Coverage::Watertight, Coverage::RasterRule})

@@ -26,6 +26,7 @@ void check_options(const RenderOptions& o)
     if (o.bvh.sah_bins < 2 || o.bvh.sah_bins > 256)
         throw Error(Error::Kind::InvalidArgument,
                     "BVH SAH bins must lie in [2, 256], got " + std::to_string(o.bvh.sah_bins));
+    samples_log2(o.samples); // 1, 2, 4, 8 or 16
     if (o.coverage != Coverage::Watertight && o.coverage != Coverage::RasterRule)
         throw Error(Error::Kind::InvalidArgument,
                     "unknown coverage mode " + std::to_string(static_cast<int>(o.coverage)));
@@ -179,7 +180,7 @@ VisibilityBuffer Renderer::render(const Camera& camera, int width, int height, P
     if (region.whole()) region = Region{0, 0, width, height};
     check_region(region, width, height);
     return error_boundary(std::string("rendering with the ") + to_string(path) + " path", [&] {
-        VisibilityBuffer target(m.device, region.width, region.height);
+        VisibilityBuffer target(m.device, region.width, region.height, m.options.samples);
         m.render(camera, width, height, region, path, target);
         return target;
     });
@@ -219,12 +220,18 @@ void Renderer::Impl::render(const Camera& camera, int width, int height, const R
                                                       "x" + std::to_string(target.height()) + ", the region " +
                                                       std::to_string(region.width) + "x" +
                                                       std::to_string(region.height));
+    if (target.samples() != options.samples)
+        throw Error(Error::Kind::InvalidArgument, "Renderer::render: the target holds " +
+                                                      std::to_string(target.samples()) +
+                                                      " sample(s) per pixel, the options ask for " +
+                                                      std::to_string(options.samples));
     Frame frame;
     frame.queue = queue;
     frame.width = region.width;
     frame.height = region.height;
     frame.region = clvis_region{region.x, region.y, region.width, region.height};
     frame.gpu_camera = make_gpu_camera(camera, width, height);
+    frame.gpu_camera.sample_log2 = samples_log2(options.samples);
     frame.keys = cl::Buffer(target.keys(), true);
     frame.stages = &stages;
     // Build what the path needs before the clock starts: the frame is only its kernels.

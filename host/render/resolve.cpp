@@ -99,6 +99,10 @@ void resolve(Renderer& renderer, const VisibilityBuffer& vis, const Camera& came
 {
     camera.validate();
     if (vis.empty()) throw Error(Error::Kind::InvalidArgument, "resolve: empty visibility buffer");
+    if (vis.samples() != 1)
+        throw Error(Error::Kind::InvalidArgument,
+                    "resolve: attributes are resolved at one sample per pixel, the buffer holds " +
+                        std::to_string(vis.samples()) + " (render with samples = 1 for barycentrics, normals, positions)");
     Renderer::Impl& r = RendererAccess::of(renderer, "resolve");
     if (vis.device().context() != r.device.context())
         throw Error(Error::Kind::InvalidArgument, "resolve: the buffer belongs to another OpenCL context");

@@ -31,6 +31,7 @@ Image shade(Renderer& renderer, const VisibilityBuffer& vis, const Camera& camer
         cl::Kernel kernel(r.dev().program("shade"), "shade");
         cl::Buffer out(r.dev().context, CL_MEM_WRITE_ONLY, image.rgba.size());
         clvis_camera_gpu g = make_gpu_camera(camera, image.width, image.height);
+        g.sample_log2 = samples_log2(vis.samples()); // the mean of each pixel's samples
         kernel.setArg(0, cl::Buffer(vis.keys(), true));
         kernel.setArg(1, out);
         kernel.setArg(2, sizeof g, &g);

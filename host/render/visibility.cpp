@@ -3,6 +3,7 @@
 
 #include "shared/visibility.h"
 
+#include <clvis/render_options.hpp>
 #include <clvis/visibility.hpp>
 
 #include <algorithm>
@@ -34,12 +35,13 @@ std::shared_ptr<_cl_mem> hold(cl_mem mem) { return std::shared_ptr<_cl_mem>(mem,
 
 } // namespace
 
-VisibilityBuffer::VisibilityBuffer(const Device& device, int width, int height)
-    : device_(device), width_(width), height_(height)
+VisibilityBuffer::VisibilityBuffer(const Device& device, int width, int height, int samples)
+    : device_(device), width_(width), height_(height), samples_(samples)
 {
     auto& impl = device.checked("VisibilityBuffer");
     check_size(width, height, "VisibilityBuffer");
-    std::uint64_t bytes = std::uint64_t(width) * std::uint64_t(height) * 8;
+    samples_log2(samples);
+    std::uint64_t bytes = std::uint64_t(width) * std::uint64_t(height) * std::uint64_t(samples) * 8;
     impl.check_allocation(bytes, "a " + std::to_string(width) + "x" + std::to_string(height) + " visibility buffer");
     try {
         cl::Buffer buffer(impl.context, CL_MEM_READ_WRITE, bytes);
@@ -54,7 +56,8 @@ VisibilityBuffer::VisibilityBuffer(const Device& device, int width, int height)
 
 VisibilityBuffer::VisibilityBuffer(VisibilityBuffer&& other) noexcept
     : device_(std::move(other.device_)), keys_(std::move(other.keys_)),
-      width_(std::exchange(other.width_, 0)), height_(std::exchange(other.height_, 0))
+      width_(std::exchange(other.width_, 0)), height_(std::exchange(other.height_, 0)),
+      samples_(std::exchange(other.samples_, 1))
 {
 }
 
@@ -64,30 +67,34 @@ VisibilityBuffer& VisibilityBuffer::operator=(VisibilityBuffer&& other) noexcept
     keys_ = std::move(other.keys_);
     width_ = std::exchange(other.width_, 0);
     height_ = std::exchange(other.height_, 0);
+    samples_ = std::exchange(other.samples_, 1);
     return *this;
 }
 
-VisibilityBuffer VisibilityBuffer::wrap(const Device& device, cl_mem keys, int width, int height)
+VisibilityBuffer VisibilityBuffer::wrap(const Device& device, cl_mem keys, int width, int height, int samples)
 {
     cl_context context = device.checked("VisibilityBuffer::wrap").context();
     check_size(width, height, "VisibilityBuffer::wrap");
+    samples_log2(samples);
     if (!keys) throw Error(Error::Kind::InvalidArgument, "VisibilityBuffer::wrap: null buffer");
     if (context_of(keys) != context)
         throw Error(Error::Kind::InvalidArgument,
                     "VisibilityBuffer::wrap: the cl_mem belongs to another OpenCL context than the Device's");
     size_t bytes = 0;
     clGetMemObjectInfo(keys, CL_MEM_SIZE, sizeof bytes, &bytes, nullptr);
-    if (bytes < std::size_t(width) * std::size_t(height) * 8)
+    std::size_t needed = std::size_t(width) * std::size_t(height) * std::size_t(samples) * 8;
+    if (bytes < needed)
         throw Error(Error::Kind::InvalidArgument,
                     "VisibilityBuffer::wrap: the buffer holds " + std::to_string(bytes) + " bytes, a " +
-                        std::to_string(width) + "x" + std::to_string(height) + " buffer needs " +
-                        std::to_string(std::size_t(width) * height * 8));
+                        std::to_string(width) + "x" + std::to_string(height) + "x" + std::to_string(samples) +
+                        " buffer needs " + std::to_string(needed));
     clRetainMemObject(keys);
     VisibilityBuffer v;
     v.device_ = device;
     v.keys_ = hold(keys);
     v.width_ = width;
     v.height_ = height;
+    v.samples_ = samples;
     return v;
 }
 
@@ -116,7 +123,7 @@ template <class Fn> void with_mapped_keys(const VisibilityBuffer& v, const char*
 {
     if (v.width() == 0) empty_buffer(call);
     auto& impl = v.device().checked(call);
-    std::size_t bytes = std::size_t(v.width()) * std::size_t(v.height()) * 8;
+    std::size_t bytes = v.key_count() * 8;
     try {
         std::lock_guard<std::mutex> lock(impl.mutex);
         cl::Buffer buffer(v.keys(), true);
@@ -139,7 +146,7 @@ template <class Fn> void with_mapped_keys(const VisibilityBuffer& v, const char*
 
 void VisibilityBuffer::read_keys(std::vector<std::uint64_t>& keys) const
 {
-    keys.resize(std::size_t(width_) * std::size_t(height_));
+    keys.resize(key_count());
     with_mapped_keys(*this, "VisibilityBuffer::read_keys", [&](const std::uint64_t* k) { std::copy(k, k + keys.size(), keys.data()); });
 }
 
@@ -152,7 +159,7 @@ std::vector<std::uint64_t> VisibilityBuffer::read_keys() const
 
 void VisibilityBuffer::read(std::uint32_t* ids, float* depth) const
 {
-    std::size_t n = std::size_t(width_) * std::size_t(height_);
+    std::size_t n = key_count();
     with_mapped_keys(*this, "VisibilityBuffer::read", [&](const std::uint64_t* k) {
         if (ids && depth) {
             for (std::size_t i = 0; i < n; ++i) {
@@ -169,9 +176,10 @@ void VisibilityBuffer::read(std::uint32_t* ids, float* depth) const
 
 void VisibilityBuffer::read(HostVisibility& out) const
 {
-    std::size_t n = std::size_t(width_) * std::size_t(height_);
+    std::size_t n = key_count();
     out.width = width_;
     out.height = height_;
+    out.samples = samples_;
     out.ids.resize(n);
     out.depth.resize(n);
     read(out.ids.data(), out.depth.data());
@@ -186,7 +194,7 @@ HostVisibility VisibilityBuffer::read() const
 
 void VisibilityBuffer::read_ids(std::vector<std::uint32_t>& ids) const
 {
-    ids.resize(std::size_t(width_) * std::size_t(height_));
+    ids.resize(key_count());
     read(ids.data(), nullptr);
 }
 

@@ -85,7 +85,7 @@ void VisibleSet::mark(const VisibilityBuffer& vis)
     State& s = *state_;
     if (vis.device().context() != s.device.context())
         throw Error(Error::Kind::InvalidArgument, "VisibleSet::mark: the buffer belongs to another OpenCL context");
-    std::size_t count = std::size_t(vis.width()) * std::size_t(vis.height());
+    std::size_t count = vis.key_count(); // every sample of every pixel
     try {
         s.mark.setArg(0, cl::Buffer(vis.keys(), true));
         s.mark.setArg(1, cl_uint(count));

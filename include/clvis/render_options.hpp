@@ -94,7 +94,16 @@ struct RenderOptions {
     RasterAtomics raster_atomics = RasterAtomics::Auto; ///< the raster path's depth test (see RasterAtomics)
     BvhOptions bvh;         ///< the ray path's tree (Path::Ray; the brute path has none)
     Coverage coverage = Coverage::Watertight; ///< the ray paths' inside test (see Coverage)
+    /// Samples per pixel: 1, 2, 4, 8 or 16, at the standard positions of CONVENTIONS.md
+    /// "Samples per pixel" (kernels/shared/samples.h), on every path; a buffer then holds
+    /// width x height x samples keys, the samples of a pixel adjacent. Anything else is refused
+    /// (Error(InvalidArgument)).
+    int samples = 1;
 };
+
+/// log2 of a valid sample count (1, 2, 4, 8 or 16); throws Error(InvalidArgument) naming the
+/// value otherwise.
+int samples_log2(int samples);
 
 struct StageTiming {
     std::string name; ///< e.g. "clear", "setup", "bin", "raster", "trace"

@@ -24,14 +24,19 @@ public:
     VisibilityBuffer& operator=(VisibilityBuffer&& other) noexcept;
     /// Allocates width * height keys on the device. Throws Error(InvalidArgument) for sizes
     /// <= 0 and Error(Limit) when the buffer exceeds the device's largest allocation.
-    VisibilityBuffer(const Device& device, int width, int height);
+    /// With `samples` per pixel (1, 2, 4, 8 or 16; Error(InvalidArgument) otherwise):
+    /// width * height * samples keys, the samples of a pixel adjacent.
+    VisibilityBuffer(const Device& device, int width, int height, int samples = 1);
     /// Wraps a caller's buffer of at least width * height cl_ulong (retained). Throws
     /// Error(InvalidArgument) for an empty Device, a null or invalid cl_mem, a buffer made in
     /// another OpenCL context than the Device's, or one too small.
-    static VisibilityBuffer wrap(const Device& device, cl_mem keys, int width, int height);
+    static VisibilityBuffer wrap(const Device& device, cl_mem keys, int width, int height, int samples = 1);
 
     int width() const { return width_; }
     int height() const { return height_; }
+    int samples() const { return samples_; } ///< samples per pixel (RenderOptions::samples)
+    /// width() * height() * samples(): the keys it holds.
+    std::size_t key_count() const { return std::size_t(width_) * std::size_t(height_) * std::size_t(samples_); }
     bool empty() const { return !keys_; }
     /// The device buffer of keys, for the caller's own kernels.
     cl_mem keys() const;
@@ -43,7 +48,7 @@ public:
     HostVisibility read() const;
 
     // Reads into storage the caller owns and reuses: a vector keeps its capacity (no allocation
-    // once it has held width() * height() elements), a pointer must address that many. Each is
+    // once it has held key_count() elements), a pointer must address that many. Each is
     // one mapping of the buffer and one pass over it, about the cost of clEnqueueReadBuffer.
     void read(HostVisibility& out) const;
     void read(std::uint32_t* ids, float* depth) const; ///< either may be null: not written
@@ -55,6 +60,7 @@ private:
     Device device_;
     std::shared_ptr<struct _cl_mem> keys_;
     int width_ = 0, height_ = 0;
+    int samples_ = 1;
 };
 
 } // namespace clvis

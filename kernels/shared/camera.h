@@ -1,13 +1,15 @@
 /* The projection of CONVENTIONS.md, in float32, shared by the raster kernels, the ray kernels and
    the host (which tests it against the double-precision clvis::Camera). Camera space is
    (r, u, -f): the camera looks down -z; raster space has its origin at the top-left corner, y
-   down, and pixel (i, j) is sampled at (i + 0.5, j + 0.5). Screen space maps to raster space
+   down, and pixel (i, j) is sampled at (i + 0.5, j + 0.5), or at the positions of
+   shared/samples.h when the camera asks for several samples per pixel. Screen space maps to raster space
    through intrinsics (x = cx + fx s.x, y = cy - fy s.y): a field of view or an orthographic
    height is the case cx = width / 2, cy = height / 2 (CONVENTIONS.md "Cameras from
    intrinsics"). */
 #ifndef CLVIS_SHARED_CAMERA_H
 #define CLVIS_SHARED_CAMERA_H
 
+#include "shared/samples.h"
 #include "shared/types.h"
 
 typedef struct clvis_camera_gpu {
@@ -23,7 +25,9 @@ typedef struct clvis_camera_gpu {
     float cx, cy;              /* raster position of the optical axis, px */
     clvis_i32 width, height;   /* pixels */
     clvis_i32 ortho;           /* 1: orthographic, 0: perspective */
-    clvis_i32 pad[3];
+    clvis_i32 sample_log2;     /* log2 of the samples per pixel (shared/samples.h); 0: one */
+    clvis_i32 sample;          /* the sample a launch draws, 0 .. 2^sample_log2 - 1 */
+    clvis_i32 pad;
 } clvis_camera_gpu;
 
 /* World -> camera space: x right, y up, z backwards (visible points have z < 0). */

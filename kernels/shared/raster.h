@@ -6,6 +6,7 @@
 
 #include "shared/camera.h"
 #include "shared/region.h"
+#include "shared/samples.h"
 #include "shared/types.h"
 #include "shared/visibility.h"
 
@@ -269,6 +270,17 @@ static inline clvis_raster_vertex clvis_raster_vertex_from(clvis_camera_gpu cam,
     return v;
 }
 
+/* The vertex moved by minus the offset of the camera's sample (shared/samples.h): the edge
+   functions of the moved triangle at pixel centres are the original's at that sample, with the
+   same snapping and top-left rule (they are translation invariant). Offsets are multiples of
+   1/16 px, 2^(CLVIS_SUBPIXEL_BITS - 4) fixed units: exact. One sample: v itself. */
+static inline clvis_raster_vertex clvis_raster_vertex_at_sample(clvis_raster_vertex v, clvis_camera_gpu cam)
+{
+    v.x -= (clvis_i64)clvis_sample_offset(cam.sample_log2, cam.sample, 0) * (CLVIS_SUBPIXEL_ONE / 16);
+    v.y -= (clvis_i64)clvis_sample_offset(cam.sample_log2, cam.sample, 1) * (CLVIS_SUBPIXEL_ONE / 16);
+    return v;
+}
+
 static inline int clvis_raster_vertex_less(clvis_raster_vertex a, clvis_raster_vertex b)
 {
     return a.x < b.x || (a.x == b.x && a.y < b.y);
@@ -430,9 +442,9 @@ static inline int clvis_raster_setup_region(clvis_raster_vertex v0, clvis_raster
 /* Passes through loop headers of one work-item of raster_fine.cl, at most (a loop of n iterations
    counts n + 1, the pass that leaves it included, as Mesa's llvmpipe counts them): per bin entry
    (the entry; each row; each span), and for the rest (clearing, then storing, the square's spans,
-   a partial span's lanes). The host splits the bins into launches that stay within half a
+   a span's lanes stored one by one: a partial span, or strided samples). The host splits the bins into launches that stay within half a
    device's loop limit (Device::Impl::loop_limit). */
 #define CLVIS_FINE_TRIPS_PER_ENTRY (2 + CLVIS_FINE_SUB * (2 + CLVIS_FINE_SPANS))
-#define CLVIS_FINE_TRIPS_FIXED (2 * (1 + CLVIS_FINE_SUB * (2 + CLVIS_FINE_SPANS)) + 9)
+#define CLVIS_FINE_TRIPS_FIXED (2 * (1 + CLVIS_FINE_SUB * (2 + CLVIS_FINE_SPANS)) + 9 * CLVIS_FINE_SUB * CLVIS_FINE_SPANS + 9)
 
 #endif

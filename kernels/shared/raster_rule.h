@@ -68,7 +68,7 @@ static inline int clvis_fan_start(const clvis_clip_vertex* poly, int n)
    best[j * stride + i]. */
 typedef struct { int x0, y0, pw, ph, stride; } clvis_pixel_block;
 
-/* One snapped triangle's keys at a block of pixels, kept where nearer: the (depth bits, id)
+/* One snapped triangle's keys at a block of pixels (at the camera's sample, shared/samples.h), kept where nearer: the (depth bits, id)
    minimum, the raster path's atomic min. Only pixel centres inside its box are evaluated (the
    others are outside the triangle, or outside the image). */
 static inline void clvis_raster_rule_block(clvis_raster_vertex v0, clvis_raster_vertex v1, clvis_raster_vertex v2,
@@ -76,7 +76,9 @@ static inline void clvis_raster_rule_block(clvis_raster_vertex v0, clvis_raster_
                                            clvis_u64* best)
 {
     clvis_raster_tri t;
-    if (!clvis_raster_setup(v0, v1, v2, id, cam.width, cam.height, cull, &t)) return;
+    if (!clvis_raster_setup(clvis_raster_vertex_at_sample(v0, cam), clvis_raster_vertex_at_sample(v1, cam),
+                            clvis_raster_vertex_at_sample(v2, cam), id, cam.width, cam.height, cull, &t))
+        return;
     int i0 = t.x0 > b.x0 ? t.x0 : b.x0, i1 = t.x1 < b.x0 + b.pw - 1 ? t.x1 : b.x0 + b.pw - 1;
     int j0 = t.y0 > b.y0 ? t.y0 : b.y0, j1 = t.y1 < b.y0 + b.ph - 1 ? t.y1 : b.y0 + b.ph - 1;
     for (int j = j0; j <= j1; ++j) {
