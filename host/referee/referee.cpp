@@ -89,10 +89,10 @@ TriangleAtSample Referee::Impl::classify(const Triangle& t, double x, double y) 
     return r;
 }
 
-template <class Fn> void Referee::Impl::for_candidates(int x, int y, Fn fn) const
+template <class Fn> void Referee::Impl::for_candidates(int x, int y, Fn fn, int log2n, int k) const
 {
     std::size_t tile = std::size_t(y >> tile_log2) * tiles_x + (x >> tile_log2);
-    double cx = x + 0.5, cy = y + 0.5;
+    double cx = sample_position(x, log2n, k, 0), cy = sample_position(y, log2n, k, 1);
     auto visit = [&](std::uint32_t id) {
         const Triangle& t = tris[id];
         if (cx < t.lo_x || cx > t.hi_x || cy < t.lo_y || cy > t.hi_y) return;
@@ -102,15 +102,18 @@ template <class Fn> void Referee::Impl::for_candidates(int x, int y, Fn fn) cons
     for (std::uint32_t id : everywhere) visit(id);
 }
 
-Referee::Impl::Nearest Referee::Impl::nearest(int x, int y) const
+Referee::Impl::Nearest Referee::Impl::nearest(int x, int y, int log2n, int k) const
 {
     Nearest n;
-    for_candidates(x, y, [&](std::uint32_t id, const TriangleAtSample& s) {
-        if (s.cls == SampleClass::In && (s.depth < n.depth || (s.depth == n.depth && id < n.id))) {
-            n.id = id;
-            n.depth = s.depth;
-        }
-    });
+    for_candidates(
+        x, y,
+        [&](std::uint32_t id, const TriangleAtSample& s) {
+            if (s.cls == SampleClass::In && (s.depth < n.depth || (s.depth == n.depth && id < n.id))) {
+                n.id = id;
+                n.depth = s.depth;
+            }
+        },
+        log2n, k);
     return n;
 }
 

@@ -82,6 +82,9 @@ BaryVerdict BarycentricReferee::judge(int x, int y, std::uint32_t id, double u, 
 
 BaryReport BarycentricReferee::check(const HostVisibility& vis, const std::vector<float>& uv) const
 {
+    if (vis.samples != 1)
+        throw Error(Error::Kind::InvalidArgument, "BarycentricReferee::check: barycentrics are judged at one sample "
+                                                  "per pixel, the buffer holds " + std::to_string(vis.samples));
     if (vis.width != width_ || vis.height != height_ || uv.size() != vis.ids.size() * 2)
         throw Error(Error::Kind::InvalidArgument, "BarycentricReferee::check: sizes differ from the referee's");
     BaryReport rep;

@@ -5,6 +5,8 @@
 
 #include <clvis/referee.hpp>
 
+#include "shared/samples.h"
+
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -23,6 +25,13 @@ constexpr int max_poly = 5;
 /// A triangle touching more than this share of the tiles is tested at every pixel instead of
 /// binned: a few hundred screen-filling triangles would otherwise fill gigabytes of tile lists.
 constexpr double everywhere_share = 0.25;
+
+/// The raster position of sample k of 2^log2n of pixel i along an axis (kernels/shared/samples.h,
+/// the kernels' own table): i + 0.5 for one sample. Exact in double.
+inline double sample_position(int i, int log2n, int k, int axis)
+{
+    return i + 0.5 + clvis_sample_offset(log2n, k, axis) / 16.0;
+}
 
 /// a x + b y + c over raster positions.
 struct Linear {
@@ -68,15 +77,18 @@ struct Referee::Impl {
     void setup_triangle(detail::Triangle& t, const Vec3 world[3], const Vec3 cam[3]) const;
     void bin();
     TriangleAtSample classify(const detail::Triangle& t, double x, double y) const;
-    TriangleAtSample classify_id(std::uint32_t id, int x, int y) const
+    // Every judgement below is at sample k of 2^log2n of pixel (x, y) (detail::sample_position):
+    // its centre by default.
+    TriangleAtSample classify_id(std::uint32_t id, int x, int y, int log2n = 0, int k = 0) const
     {
-        return classify(tris[id], x + 0.5, y + 0.5);
+        return classify(tris[id], detail::sample_position(x, log2n, k, 0), detail::sample_position(y, log2n, k, 1));
     }
-    template <class Fn> void for_candidates(int x, int y, Fn fn) const;
-    Nearest nearest(int x, int y) const;
+    template <class Fn> void for_candidates(int x, int y, Fn fn, int log2n = 0, int k = 0) const;
+    Nearest nearest(int x, int y, int log2n = 0, int k = 0) const;
     /// Judges one answer (its id, and its depth when it has one) at pixel (x, y).
     /// `depth_px`: CompareOptions::depth_px.
-    PixelVerdict judge(int x, int y, const SampleAnswer& answer, const Nearest& n, double depth_px) const;
+    PixelVerdict judge(int x, int y, const SampleAnswer& answer, const Nearest& n, double depth_px, int log2n = 0,
+                       int k = 0) const;
     /// Judges the depth of v.answer_depth for triangle t at raster (x, y) into v.
     void judge_depth(const detail::Triangle& t, double x, double y, double depth_px, PixelVerdict& v) const;
     /// The view depths of t's visible part within EPS (a square) of raster (x, y); false if none.

@@ -26,18 +26,23 @@ std::string number(double v)
 }
 
 /// Error(InvalidArgument) unless v is a buffer of the referee's size, its depths absent or whole.
-void check_size(const Referee::Impl& impl, const HostVisibility& v, const char* which)
+/// Error(InvalidArgument) unless v is a buffer of the referee's size with a valid sample count,
+/// its ids whole and its depths absent or whole; returns log2 of its samples per pixel.
+int check_size(const Referee::Impl& impl, const HostVisibility& v, const char* which)
 {
-    std::size_t pixels = std::size_t(impl.width) * std::size_t(impl.height);
-    if (v.width != impl.width || v.height != impl.height || v.ids.size() != pixels)
+    int log2n = samples_log2(v.samples);
+    std::size_t keys = std::size_t(impl.width) * std::size_t(impl.height) * std::size_t(v.samples);
+    if (v.width != impl.width || v.height != impl.height || v.ids.size() != keys)
         throw Error(Error::Kind::InvalidArgument,
                     std::string("referee: ") + which + " buffer is " + std::to_string(v.width) + "x" +
-                        std::to_string(v.height) + ", the referee's image " + std::to_string(impl.width) + "x" +
-                        std::to_string(impl.height));
-    if (!v.depth.empty() && v.depth.size() != pixels)
+                        std::to_string(v.height) + " with " + std::to_string(v.ids.size()) + " ids for " +
+                        std::to_string(v.samples) + " sample(s) per pixel, the referee's image " +
+                        std::to_string(impl.width) + "x" + std::to_string(impl.height));
+    if (!v.depth.empty() && v.depth.size() != keys)
         throw Error(Error::Kind::InvalidArgument, std::string("referee: ") + which + " buffer holds " +
                                                       std::to_string(v.depth.size()) + " depths for " +
-                                                      std::to_string(pixels) + " pixels");
+                                                      std::to_string(keys) + " samples");
+    return log2n;
 }
 
 void check_options(const CompareOptions& o)
@@ -47,12 +52,12 @@ void check_options(const CompareOptions& o)
                                                       std::to_string(o.depth_px));
 }
 
-SampleAnswer answer_at(const HostVisibility& v, int x, int y, bool depths)
+SampleAnswer answer_at(const HostVisibility& v, int x, int y, int k, bool depths)
 {
     SampleAnswer a;
-    a.id = v.id(x, y);
+    a.id = v.id(x, y, k);
     a.has_depth = depths;
-    if (depths) a.depth = v.depth_at(x, y);
+    if (depths) a.depth = v.depth_at(x, y, k);
     return a;
 }
 
@@ -101,11 +106,14 @@ void tally(CompareReport& r, const PixelVerdict& va, const PixelVerdict* pb, boo
 
 } // namespace
 
-PixelVerdict Referee::Impl::judge(int x, int y, const SampleAnswer& answer, const Nearest& n, double depth_px) const
+PixelVerdict Referee::Impl::judge(int x, int y, const SampleAnswer& answer, const Nearest& n, double depth_px,
+                                  int log2n, int k) const
 {
     PixelVerdict v;
     v.x = x;
     v.y = y;
+    v.samples = 1 << log2n;
+    v.sample = k;
     v.id = answer.id;
     v.nearest_id = n.id;
     v.nearest_depth = n.depth;
@@ -123,8 +131,9 @@ PixelVerdict Referee::Impl::judge(int x, int y, const SampleAnswer& answer, cons
         if (answer.has_depth) v.depth_error = DepthError::NoTriangle;
         return v;
     }
-    if (answer.has_depth) judge_depth(tris[answer.id], x + 0.5, y + 0.5, depth_px, v);
-    TriangleAtSample s = classify_id(answer.id, x, y);
+    if (answer.has_depth)
+        judge_depth(tris[answer.id], sample_position(x, log2n, k, 0), sample_position(y, log2n, k, 1), depth_px, v);
+    TriangleAtSample s = classify_id(answer.id, x, y, log2n, k);
     v.depth = s.depth;
     if (s.cls == SampleClass::Out) {
         if (s.culled) {
@@ -273,6 +282,7 @@ const char* to_string(DepthError error) noexcept
 std::string PixelVerdict::describe() const
 {
     std::string s = "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")";
+    if (samples > 1) s += " sample " + std::to_string(sample) + " of " + std::to_string(samples);
     if (source == 0) s += " [first]";
     else if (source == 1) s += " [second]";
     else if (source == 2) s += " [both]";
@@ -323,13 +333,16 @@ PixelVerdict Referee::judge(int x, int y, const SampleAnswer& answer) const
 CompareReport Referee::compare(const HostVisibility& a, const HostVisibility& b, const CompareOptions& options) const
 {
     const Impl& im = checked("Referee::compare");
-    check_size(im, a, "first");
+    int log2n = check_size(im, a, "first");
     check_size(im, b, "second");
+    if (a.samples != b.samples)
+        throw Error(Error::Kind::InvalidArgument, "referee: the first buffer holds " + std::to_string(a.samples) +
+                                                      " sample(s) per pixel, the second " + std::to_string(b.samples));
     check_options(options);
     bool depths = !a.depth.empty() && !b.depth.empty();
     CompareReport total = im.by_rows(options.max_reported, [&](int y, CompareReport& r) {
-        for (int x = 0; x < im.width; ++x) {
-            SampleAnswer sa = answer_at(a, x, y, depths), sb = answer_at(b, x, y, depths);
+        for (int x = 0; x < im.width; ++x) for (int k = 0; k < 1 << log2n; ++k) {
+            SampleAnswer sa = answer_at(a, x, y, k, depths), sb = answer_at(b, x, y, k, depths);
             bool same_id = sa.id == sb.id, same_depth = same_bits(sa.depth, sb.depth);
             ++r.pixels;
             if (options.differing_only && same_id && same_depth) {
@@ -338,9 +351,9 @@ CompareReport Referee::compare(const HostVisibility& a, const HostVisibility& b,
                 continue;
             }
             ++r.judged;
-            Impl::Nearest n = im.nearest(x, y);
-            PixelVerdict va = im.judge(x, y, sa, n, options.depth_px);
-            PixelVerdict vb = same_id && same_depth ? va : im.judge(x, y, sb, n, options.depth_px);
+            Impl::Nearest n = im.nearest(x, y, log2n, k);
+            PixelVerdict va = im.judge(x, y, sa, n, options.depth_px, log2n, k);
+            PixelVerdict vb = same_id && same_depth ? va : im.judge(x, y, sb, n, options.depth_px, log2n, k);
             tally(r, va, &vb, same_id, same_depth, options.max_reported);
         }
     });
@@ -351,15 +364,15 @@ CompareReport Referee::compare(const HostVisibility& a, const HostVisibility& b,
 CompareReport Referee::check(const HostVisibility& a, const CompareOptions& options) const
 {
     const Impl& im = checked("Referee::check");
-    check_size(im, a, "checked");
+    int log2n = check_size(im, a, "checked");
     check_options(options);
     bool depths = !a.depth.empty();
     CompareReport total = im.by_rows(options.max_reported, [&](int y, CompareReport& r) {
-        for (int x = 0; x < im.width; ++x) {
+        for (int x = 0; x < im.width; ++x) for (int k = 0; k < 1 << log2n; ++k) {
             ++r.pixels;
             ++r.judged;
-            Impl::Nearest n = im.nearest(x, y);
-            PixelVerdict v = im.judge(x, y, answer_at(a, x, y, depths), n, options.depth_px);
+            Impl::Nearest n = im.nearest(x, y, log2n, k);
+            PixelVerdict v = im.judge(x, y, answer_at(a, x, y, k, depths), n, options.depth_px, log2n, k);
             // As a comparison with the reference answer: ids equal to it, depths equal to the
             // exact depth rounded to float.
             bool same_depth = depths && (v.answer_depth == float(v.depth_expected));

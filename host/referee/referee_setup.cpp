@@ -212,9 +212,10 @@ void Referee::Impl::bin()
 {
     tiles_x = (width + tile_size - 1) / tile_size;
     tiles_y = (height + tile_size - 1) / tile_size;
-    // Pixel i's centre is i + 0.5: the pixels whose centres lie in [lo, hi], as tile ranges.
+    // Pixel i's samples lie in [i, i + 1) (its centre i + 0.5, or the positions of
+    // shared/samples.h): the pixels with a sample that may lie in [lo, hi], as tile ranges.
     auto range = [](double lo, double hi, int size, int* first, int* last) {
-        double f = std::ceil(lo - 0.5), l = std::floor(hi - 0.5);
+        double f = std::ceil(lo - 1), l = std::floor(hi);
         if (!(f <= l) || l < 0 || f > size - 1) return false;
         *first = int(std::fmax(f, 0.0)) >> tile_log2;
         *last = int(std::fmin(l, double(size - 1))) >> tile_log2;

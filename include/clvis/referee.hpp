@@ -98,6 +98,7 @@ struct TriangleAtSample {
 
 struct PixelVerdict {
     int x = 0, y = 0;
+    int sample = 0, samples = 1; ///< the sample judged, of the buffer's samples per pixel
     std::uint32_t id = background_id;      ///< the answer judged
     AnswerError error = AnswerError::None;
     int source = -1;            ///< compare(): 0 the first buffer, 1 the second, 2 both; else -1
@@ -123,7 +124,7 @@ struct PixelVerdict {
 /// Counts that add up: equal + explained + errors == pixels, and depth_equal + depth_explained +
 /// depth_errors == pixels when depths_judged.
 struct CompareReport {
-    std::size_t pixels = 0;     ///< pixels of the buffers
+    std::size_t pixels = 0;     ///< pixels of the buffers; samples, when they hold several per pixel
     std::size_t judged = 0;     ///< pixels the referee judged (all unless differing_only)
     std::size_t equal = 0;      ///< same id in both, acceptable or not judged (check(): the answer
                                 ///< is acceptable and equals reference())
