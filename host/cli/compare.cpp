@@ -120,6 +120,7 @@ nlohmann::json verdict_json(const PixelVerdict& v)
                         {"id", v.id},       {"error", to_string(v.error)},
                         {"buffer", v.source == 0 ? "first" : v.source == 1 ? "second" : "both"},
                         {"nearest_id", v.nearest_id}, {"describe", v.describe()}};
+    if (v.samples > 1) j["sample"] = v.sample;
     if (v.id != background_id && v.error != AnswerError::InvalidId && std::isfinite(v.depth)) j["depth"] = v.depth;
     if (v.nearest_id != background_id) j["nearest_depth"] = v.nearest_depth;
     if (v.error == AnswerError::Coverage) j["edge_distance"] = v.edge_distance;
@@ -157,6 +158,7 @@ int run_compare(const CompareArgs& args)
                             {"second", args.second},
                             {"width", in.a.width},
                             {"height", in.a.height},
+                            {"samples", in.a.samples},
                             {"triangles", in.file.scene.triangle_count()},
                             {"camera", in.camera.to_flags()},
                             {"cull", args.cull},

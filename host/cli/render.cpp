@@ -34,6 +34,7 @@ struct RenderArgs {
     std::string visible;                 ///< the visible set: ids, one per line, ascending
     std::string views;                   ///< a views file: many cameras, one batch
     int repeat = 0;
+    int samples = 1; ///< samples per pixel (RenderOptions::samples)
     int ao = 0; ///< rays per pixel of the ambient-occlusion image; 0: a shaded image
     int tile = 0;
     int leaf = 4;
@@ -203,7 +204,7 @@ PathResult run_path(Renderer& renderer, const std::vector<Camera>& cameras, cons
     VisibilityBatch views;
     VisibilityBuffer vis;
     if (batch) views = VisibilityBatch(renderer.device(), int(cameras.size()), width, height);
-    else vis = VisibilityBuffer(renderer.device(), width, height);
+    else vis = VisibilityBuffer(renderer.device(), width, height, a.samples);
     auto frame = [&] {
         if (batch) render_views(renderer, cameras, path, views);
         else renderer.render(cameras[0], path, vis);
@@ -354,6 +355,7 @@ nlohmann::json render_json(const RenderArgs& a, const SceneFile& file,
     j["warm_up"] = a.repeat > 0 || a.timings;
     j["camera"] = camera.to_flags();
     j["coverage"] = a.coverage;
+    j["samples"] = a.samples;
     if (several) {
         j["build_ms"] = results[1].build_ms;
         j["results"] = nlohmann::json::array();
@@ -371,6 +373,8 @@ RenderOptions render_options(const RenderArgs& a)
     options.raster_atomics = raster_atomics_from_string(a.raster_atomics);
     options.bvh.max_leaf_size = a.leaf;
     options.coverage = coverage_from_string(a.coverage);
+    samples_log2(a.samples); // 1, 2, 4, 8 or 16, else an error naming the value
+    options.samples = a.samples;
     return options;
 }
 
@@ -393,6 +397,10 @@ void render_command(RenderArgs a)
     if (cameras.empty()) cameras.push_back(camera);
     if (file.scene.empty()) throw Error(Error::Kind::InvalidArgument, "the scene holds no triangles");
     if (a.ao > 0 && a.image.empty()) throw Error(Error::Kind::InvalidArgument, "--ao: needs --image FILE to write");
+    if (a.samples != 1 && (a.ao > 0 || a.spread.any() || !a.views.empty()))
+        throw Error(Error::Kind::InvalidArgument, "--samples " + std::to_string(a.samples) +
+                                                      ": --ao, --views, --devices and --distribute draw one sample "
+                                                      "per pixel");
     if (a.spread.any())
         return render_spread(a.spread, {a.path, a.views, a.image, a.device.spec, &file, load_ms, cameras, a.width,
                                         a.height, render_options(a), a.ids, a.depth, a.repeat, a.json, a.quiet});
@@ -467,6 +475,9 @@ void add_render_command(CLI::App& app)
         ->check(CLI::Range(1, 1024));
     cmd->add_option("--repeat", args->repeat, "render N timed frames after one untimed warm-up")
         ->check(CLI::Range(0, 1000000));
+    cmd->add_option("--samples", args->samples,
+                    "samples per pixel: 1, 2, 4, 8 or 16 at the standard positions (CONVENTIONS.md); the id and "
+                    "depth files get channels id0.. and Z0.., the image is their mean");
     cmd->add_option("--tile", args->tile, "raster tile size in pixels (power of two; 0: default)");
     cmd->add_option("--cull", args->cull, "face culling: none, back or front")
         ->check(CLI::IsMember({"none", "back", "front"}));

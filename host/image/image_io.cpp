@@ -1,6 +1,7 @@
 // Image files through OpenImageIO: id buffers as one UINT32 channel "id" (TIFF or EXR), never
 // through float; depth as one FLOAT channel "Z" (EXR); colour images (PNG, EXR, ...). Row 0 is the
-// top row of every file, as in memory.
+// top row of every file, as in memory. A buffer of N > 1 samples per pixel has N channels, "id0"
+// .. "id{N-1}" and "Z0" .. "Z{N-1}", read back by name (OpenEXR keeps channels sorted by name).
 #include "lower_case.hpp"
 
 #include <clvis/error.hpp>
@@ -35,23 +36,58 @@ void write_channels(const std::string& path, int width, int height, const std::v
     if (!out->close()) io_error(path, "close failed: " + out->geterror());
 }
 
-/// Opens `path` and checks it is a single-channel image of `width` x `height` (when > 0).
-std::unique_ptr<OIIO::ImageInput> open_single_channel(const std::string& path, const char* what)
+/// The channels of a buffer of `samples` per pixel: `base` alone, or base0 .. base{samples-1}.
+std::vector<std::string> sample_channels(const std::string& base, int samples)
+{
+    if (samples == 1) return {base};
+    std::vector<std::string> names;
+    for (int k = 0; k < samples; ++k) names.push_back(base + std::to_string(k));
+    return names;
+}
+
+/// Opens `path` and checks it is an image of 1, 2, 4, 8 or 16 channels (samples per pixel).
+std::unique_ptr<OIIO::ImageInput> open_samples(const std::string& path, const char* what)
 {
     auto in = OIIO::ImageInput::open(path);
     if (!in) io_error(path, std::string("cannot read ") + what + ": " + OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
-    if (spec.nchannels != 1)
-        io_error(path, std::string(what) + " must have one channel, this file has " + std::to_string(spec.nchannels));
+    int n = spec.nchannels;
+    if (n != 1 && n != 2 && n != 4 && n != 8 && n != 16)
+        io_error(path, std::string(what) + " must have 1, 2, 4, 8 or 16 channels (samples per pixel), this file has " +
+                           std::to_string(n));
     if (spec.width <= 0 || spec.height <= 0 || spec.depth > 1) io_error(path, "not a 2D image");
     return in;
 }
 
-/// Reads the one channel of `in` as `type` into `out` (width x height values) and closes it.
-void read_channel(OIIO::ImageInput& in, const std::string& path, OIIO::TypeDesc type, void* out)
+/// Reads every channel of `in` as `type` (of `size` bytes) into `out`, the samples of a pixel
+/// adjacent, and closes it. Channels named base0 .. base{N-1} go to their sample whatever their
+/// order in the file; a file whose names are not those (a TIFF keeps none) is taken in file order.
+void read_samples(OIIO::ImageInput& in, const std::string& path, const std::string& base, OIIO::TypeDesc type,
+                  std::size_t size, void* out)
 {
-    if (!in.read_image(0, 0, 0, 1, type, out)) io_error(path, "read failed: " + in.geterror());
+    const OIIO::ImageSpec& spec = in.spec();
+    std::size_t n = std::size_t(spec.nchannels), pixels = std::size_t(spec.width) * std::size_t(spec.height);
+    std::vector<unsigned char> raw(pixels * n * size);
+    if (!in.read_image(0, 0, 0, int(n), type, raw.data())) io_error(path, "read failed: " + in.geterror());
     in.close();
+    std::vector<std::size_t> sample(n);
+    std::vector<bool> seen(n, false);
+    bool named = n > 1;
+    for (std::size_t c = 0; c < n && named; ++c) {
+        std::string name = c < spec.channelnames.size() ? spec.channelnames[c] : std::string();
+        std::size_t k = n;
+        for (std::size_t j = 0; j < n; ++j)
+            if (name == base + std::to_string(j)) k = j;
+        named = k < n && !seen[k];
+        if (named) seen[k] = true;
+        sample[c] = named ? k : c;
+    }
+    for (std::size_t c = 0; c < n; ++c)
+        if (!named) sample[c] = c;
+    auto* dst = static_cast<unsigned char*>(out);
+    for (std::size_t p = 0; p < pixels; ++p)
+        for (std::size_t c = 0; c < n; ++c)
+            std::copy_n(raw.data() + (p * n + c) * size, size, dst + (p * n + sample[c]) * size);
 }
 
 std::vector<std::string> split(const std::string& text, char sep)
@@ -107,18 +143,20 @@ std::vector<std::string> image_extensions()
 void write_ids(const std::string& path, const HostVisibility& vis)
 {
     if (!has_extension(path, id_extensions())) io_error(path, "id buffers are written as " + listed(id_extensions()));
-    if (vis.ids.size() != std::size_t(vis.width) * std::size_t(vis.height))
-        io_error(path, "the id array does not match the image size");
-    write_channels(path, vis.width, vis.height, {"id"}, OIIO::TypeDesc::UINT32, vis.ids.data());
+    if (vis.ids.size() != std::size_t(vis.width) * std::size_t(vis.height) * std::size_t(vis.samples))
+        io_error(path, "the id array does not match the image size and samples");
+    write_channels(path, vis.width, vis.height, sample_channels("id", vis.samples), OIIO::TypeDesc::UINT32,
+                   vis.ids.data());
 }
 
 void write_depth(const std::string& path, const HostVisibility& vis)
 {
     if (!has_extension(path, depth_extensions()))
         io_error(path, "depth buffers are written as " + listed(depth_extensions()));
-    if (vis.depth.size() != std::size_t(vis.width) * std::size_t(vis.height))
-        io_error(path, "the depth array does not match the image size");
-    write_channels(path, vis.width, vis.height, {"Z"}, OIIO::TypeDesc::FLOAT, vis.depth.data());
+    if (vis.depth.size() != std::size_t(vis.width) * std::size_t(vis.height) * std::size_t(vis.samples))
+        io_error(path, "the depth array does not match the image size and samples");
+    write_channels(path, vis.width, vis.height, sample_channels("Z", vis.samples), OIIO::TypeDesc::FLOAT,
+                   vis.depth.data());
 }
 
 void write_float_channels(const std::string& path, int width, int height, const std::vector<std::string>& channels,
@@ -149,7 +187,7 @@ std::vector<float> read_float_channels(const std::string& path, int* width, int*
 
 HostVisibility read_ids(const std::string& path)
 {
-    auto in = open_single_channel(path, "an id buffer");
+    auto in = open_samples(path, "an id buffer");
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.format != OIIO::TypeDesc::UINT32)
         io_error(path, "an id buffer must hold 32-bit unsigned integers, this file holds " +
@@ -157,22 +195,27 @@ HostVisibility read_ids(const std::string& path)
     HostVisibility vis;
     vis.width = spec.width;
     vis.height = spec.height;
-    vis.ids.resize(std::size_t(spec.width) * std::size_t(spec.height));
-    read_channel(*in, path, OIIO::TypeDesc::UINT32, vis.ids.data());
+    vis.samples = spec.nchannels;
+    vis.ids.resize(std::size_t(spec.width) * std::size_t(spec.height) * std::size_t(vis.samples));
+    read_samples(*in, path, "id", OIIO::TypeDesc::UINT32, sizeof(std::uint32_t), vis.ids.data());
     return vis;
 }
 
 void read_depth(const std::string& path, HostVisibility& vis)
 {
-    auto in = open_single_channel(path, "a depth buffer");
+    auto in = open_samples(path, "a depth buffer");
     const OIIO::ImageSpec& spec = in->spec();
-    if ((vis.width || vis.height) && (spec.width != vis.width || spec.height != vis.height))
-        io_error(path, "depth is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
-                           ", the ids are " + std::to_string(vis.width) + "x" + std::to_string(vis.height));
+    if ((vis.width || vis.height) &&
+        (spec.width != vis.width || spec.height != vis.height || spec.nchannels != vis.samples))
+        io_error(path, "depth is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " with " +
+                           std::to_string(spec.nchannels) + " sample(s) per pixel, the ids are " +
+                           std::to_string(vis.width) + "x" + std::to_string(vis.height) + " with " +
+                           std::to_string(vis.samples));
     vis.width = spec.width;
     vis.height = spec.height;
-    vis.depth.resize(std::size_t(spec.width) * std::size_t(spec.height));
-    read_channel(*in, path, OIIO::TypeDesc::FLOAT, vis.depth.data());
+    vis.samples = spec.nchannels;
+    vis.depth.resize(std::size_t(spec.width) * std::size_t(spec.height) * std::size_t(vis.samples));
+    read_samples(*in, path, "Z", OIIO::TypeDesc::FLOAT, sizeof(float), vis.depth.data());
 }
 
 void write_image(const std::string& path, const Image& image)

@@ -1,6 +1,8 @@
 // Image files, through OpenImageIO (the clvis::image layer). Id buffers are one UINT32 channel
 // named "id" in TIFF or OpenEXR, never passed through float; depth buffers one FLOAT channel "Z"
-// in OpenEXR; colour images PNG or EXR. Row 0 is the top row in every file.
+// in OpenEXR; colour images PNG or EXR. Row 0 is the top row in every file. A buffer of N > 1
+// samples per pixel (HostVisibility::samples) has N channels "id0" .. "id{N-1}" and "Z0" ..
+// "Z{N-1}", the samples of a pixel adjacent as in memory.
 #pragma once
 
 #include <clvis/host_visibility.hpp>
@@ -16,9 +18,10 @@ namespace clvis {
 void write_ids(const std::string& path, const HostVisibility& vis);
 /// Writes the depths of `vis` (.exr).
 void write_depth(const std::string& path, const HostVisibility& vis);
-/// Reads an id buffer: fills width, height and ids (depth left empty).
+/// Reads an id buffer: fills width, height, samples (its channels: 1, 2, 4, 8 or 16) and ids
+/// (depth left empty).
 HostVisibility read_ids(const std::string& path);
-/// Reads a depth buffer into `vis.depth` (width and height must match when already set).
+/// Reads a depth buffer into `vis.depth` (width, height and samples must match when already set).
 void read_depth(const std::string& path, HostVisibility& vis);
 /// Writes channels.size() float channels per pixel, adjacent (.exr): barycentrics "u", "v";
 /// positions and normals "x", "y", "z".
