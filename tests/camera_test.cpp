@@ -10,6 +10,8 @@
 
 #include <cmath>
 #include <random>
+#include <utility>
+#include <vector>
 
 using namespace clvis;
 
@@ -427,4 +429,26 @@ TEST_CASE("a pose matrix round-trips and a bad one is refused", "[camera]")
     bad.intrinsics = Intrinsics{10, 10, 1, 1};
     bad.projection = Projection::Orthographic;
     CHECK(message(bad).find("perspective") != std::string::npos);
+}
+
+TEST_CASE("the sample positions are the standard ones of CONVENTIONS.md, in order", "[samples]")
+{
+    // CONVENTIONS.md "Samples per pixel", typed from it: (dx, dy) in 1/16 px.
+    const std::vector<std::vector<std::pair<int, int>>> table = {
+        {{0, 0}},
+        {{4, 4}, {-4, -4}},
+        {{-2, -6}, {6, -2}, {-6, 2}, {2, 6}},
+        {{1, -3}, {-1, 3}, {5, 1}, {-3, -5}, {-5, 5}, {-7, -1}, {3, 7}, {7, -7}},
+        {{1, 1}, {-1, -3}, {-3, 2}, {4, -1}, {-5, -2}, {2, 5}, {5, 3}, {3, -5}, {-2, 6}, {0, -7}, {-4, -6},
+         {-6, 4}, {-8, 0}, {7, -4}, {6, 7}, {-7, -8}}};
+    for (int log2n = 0; log2n <= CLVIS_MAX_SAMPLES_LOG2; ++log2n)
+        for (int k = 0; k < 1 << log2n; ++k) {
+            INFO("sample " << k << " of " << (1 << log2n));
+            CHECK(clvis_sample_offset(log2n, k, 0) == table[std::size_t(log2n)][std::size_t(k)].first);
+            CHECK(clvis_sample_offset(log2n, k, 1) == table[std::size_t(log2n)][std::size_t(k)].second);
+            CHECK(double(7.0f + clvis_sample_fraction(log2n, k, 0)) == 7.5 + table[std::size_t(log2n)][std::size_t(k)].first / 16.0);
+        }
+    CHECK(clvis_sample_fraction(0, 0, 0) == 0.5f);
+    for (int n : {1, 2, 4, 8, 16}) CHECK(1 << samples_log2(n) == n);
+    CHECK_THROWS_WITH(samples_log2(12), Catch::Contains("12"));
 }

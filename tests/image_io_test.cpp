@@ -6,6 +6,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <limits>
 
@@ -67,6 +68,50 @@ TEST_CASE("depth buffers round-trip through EXR with +inf for the background", "
     REQUIRE(in);
     CHECK(in->spec().channelnames[0] == "Z");
     CHECK(in->spec().format == OIIO::TypeDesc::FLOAT);
+}
+
+TEST_CASE("buffers of 2 to 16 samples round-trip with channels id0.. and Z0..", "[image][samples]")
+{
+    for (int n : {2, 4, 16}) {
+        HostVisibility v;
+        v.width = 3;
+        v.height = 2;
+        v.samples = n;
+        for (int i = 0; i < 6 * n; ++i) {
+            v.ids.push_back(i % 5 == 4 ? background_id : 4000000000u + std::uint32_t(i));
+            v.depth.push_back(i % 5 == 4 ? std::numeric_limits<float>::infinity() : 1.0f + float(i) / 64);
+        }
+        for (const char* ext : {"exr", "tif"}) {
+            INFO(n << " samples, ." << ext);
+            std::string path = temp_path("samples." + std::string(ext));
+            write_ids(path, v);
+            HostVisibility back = read_ids(path);
+            CHECK(back.samples == n);
+            CHECK(back.ids == v.ids); // sample k of a pixel back in its place (EXR sorts names: id10 < id2)
+            auto in = OIIO::ImageInput::open(path);
+            REQUIRE(in);
+            CHECK(in->spec().nchannels == n);
+            if (std::string(ext) == "exr") {
+                std::vector<std::string> names = in->spec().channelnames;
+                std::sort(names.begin(), names.end());
+                std::vector<std::string> expected;
+                for (int k = 0; k < n; ++k) expected.push_back("id" + std::to_string(k));
+                std::sort(expected.begin(), expected.end());
+                CHECK(names == expected);
+            }
+        }
+        std::string zpath = temp_path("samples-z.exr");
+        write_depth(zpath, v);
+        HostVisibility ids = read_ids(temp_path("samples.exr"));
+        read_depth(zpath, ids);
+        CHECK(ids.depth == v.depth);
+        HostVisibility one = sample_buffer(); // 5x3, one sample: its depth file does not fit these ids
+        write_depth(zpath, one);
+        CHECK_THROWS_WITH(read_depth(zpath, ids), Catch::Contains("sample"));
+    }
+    HostVisibility three = sample_buffer();
+    three.samples = 3;
+    CHECK_THROWS_AS(write_ids(temp_path("three.exr"), three), Error);
 }
 
 TEST_CASE("row 0 of a written file is the top row", "[image]")

@@ -8,6 +8,7 @@
 #include "catch.hpp"
 #include "test_meshes.hpp"
 #include "runtime/cl_runtime.hpp"
+#include "shared/samples.h"
 
 #include <clvis/clvis.hpp>
 
@@ -224,7 +225,8 @@ Frames agree(Renderer& renderer, const Scene& scene, const std::string& name, co
     for (Path p : paths) {
         f.vis.push_back(renderer.render(cam, w, h, p).read());
         const HostVisibility& v = f.vis.back();
-        REQUIRE(v.ids.size() == std::size_t(w) * std::size_t(h));
+        REQUIRE(v.samples == renderer.options().samples);
+        REQUIRE(v.ids.size() == std::size_t(w) * std::size_t(h) * std::size_t(v.samples));
         std::size_t invalid = 0, covered = 0;
         for (std::uint32_t id : v.ids) {
             invalid += id != background_id && id >= scene.triangle_count();
@@ -237,7 +239,7 @@ Frames agree(Renderer& renderer, const Scene& scene, const std::string& name, co
         CHECK(r.errors == 0);
         CHECK(r.depths_judged);
         CHECK(r.depth_errors == 0);
-        if (with_reference) {
+        if (with_reference && v.samples == 1) { // reference() answers at pixel centres
             std::size_t differ = 0;
             for (int y = 0; y < h; ++y)
                 for (int x = 0; x < w; ++x) {
@@ -263,7 +265,7 @@ Frames agree(Renderer& renderer, const Scene& scene, const std::string& name, co
     std::printf("%s | raster/ray %zu explained | unc %.1e px %.1e raster px %.1e rel | zpx %.1e | %.2f s\n", line,
                 rr.explained, unc.px, unc.raster, unc.depth, options.depth_px, seconds);
     std::fflush(stdout);
-    tally.pixels += std::size_t(w) * std::size_t(h);
+    tally.pixels += rr.pixels; // samples
     tally.explained += rr.explained;
     tally.cases += 1;
     tally.seconds += seconds;
@@ -565,6 +567,78 @@ TEST_CASE("a plane face-on, samples on shared edges and vertices, no error, no h
           96, 80, true, true, tally);
     std::printf("agree plane face-on: %zu explained (on edges by construction: judged on errors alone)\n",
                 tally.explained);
+}
+
+TEST_CASE("2 to 16 samples per pixel: both paths judged at every sample", "[device][agree][samples]")
+{
+    Device device = Device::open();
+    Tally tally, on_edges;
+    Random rng(20261202);
+    // Vertices on pixel centres, one world unit per pixel (raster (x, 24 - y)): the samples' 1/16 px
+    // offsets put many of them exactly on shared edges and vertices (the top-left rule at every
+    // sample; judged on errors alone, like the face-on plane above).
+    Scene plane;
+    plane.add_mesh(grid(14, 4.5, 4.5, 1, 0));
+    Scene bunny = load_bundled("stanford-bunny");
+    Camera ortho = Camera::orthographic({12, 12, 20}, {12, 12, 0}, {0, 1, 0}, 24, 15, 100);
+    for (int n : {2, 4, 8, 16}) {
+        RenderOptions o;
+        o.samples = n;
+        std::string tag = std::to_string(n) + " samples ";
+        Renderer rp(device, plane, o);
+        Frames f = agree(rp, plane, tag + "plane face-on ortho", ortho, 24, 24, true, false, on_edges);
+        for (const HostVisibility& v : f.vis) {
+            std::size_t holes_inside = 0; // every sample of the pixels inside the grid is covered
+            for (int y = 6; y <= 18; ++y)
+                for (int x = 5; x <= 17; ++x)
+                    for (int k = 0; k < n; ++k) holes_inside += v.id(x, y, k) == background_id;
+            CHECK(holes_inside == 0);
+        }
+        Renderer rb(device, bunny, o);
+        agree(rb, bunny, tag + "bunny framing", Camera::framing(bunny.bounds()), 32, 24, false, false, tally);
+        agree(rb, bunny, tag + "bunny close", random_camera(bunny, View::Close, rng, 16), 16, 16, false, false,
+              tally);
+    }
+    check_budget(tally, "samples per pixel");
+    std::printf("agree samples on a plane face-on: %zu explained (on edges by construction)\n", on_edges.explained);
+}
+
+TEST_CASE("several samples: sample k is where samples.h puts it; shading averages", "[device][samples]")
+{
+    // A half-plane x < 16.5 + 1/32 px (ortho, one world unit per pixel): sample k of a pixel in
+    // column 16, at x = 16.5 + dx_k / 16, is covered exactly when dx_k / 16 < 1/32: dx_k <= 0.
+    Device device = Device::open();
+    Scene s;
+    s.add_mesh(triangles({-100, -100, 0, 16.53125f, -100, 0, 16.53125f, 100, 0, -100, -100, 0, 16.53125f, 100, 0,
+                          -100, 100, 0},
+                         "half-plane"));
+    Camera cam = Camera::orthographic({16, 16, 20}, {16, 16, 0}, {0, 1, 0}, 32, 15, 100);
+    for (int n : {1, 2, 4, 8, 16}) {
+        RenderOptions o;
+        o.samples = n;
+        Renderer r(device, s, o);
+        for (Path p : {Path::Raster, Path::Ray, Path::Brute}) {
+            INFO(n << " samples, " << to_string(p) << " path");
+            HostVisibility v = r.render(cam, 32, 32, p).read();
+            REQUIRE(v.samples == n);
+            int log2n = samples_log2(n);
+            for (int k = 0; k < n; ++k) {
+                int dx = clvis_sample_offset(log2n, k, 0);
+                CHECK((v.id(16, 9, k) != background_id) == (dx * 2 < 1));
+                CHECK(v.id(15, 9, k) != background_id);
+                CHECK(v.id(17, 9, k) == background_id);
+            }
+        }
+        Image img = shade(r, r.render(cam, 32, 32, Path::Raster), cam, {});
+        int covered = 0;
+        for (int k = 0; k < n; ++k) covered += clvis_sample_offset(samples_log2(n), k, 0) * 2 < 1;
+        std::uint8_t lit = img.rgba[(9 * 32 + 15) * 4], bg = img.rgba[(9 * 32 + 17) * 4];
+        std::uint8_t edge = img.rgba[(9 * 32 + 16) * 4];
+        INFO(n << " samples: lit " << int(lit) << ", edge " << int(edge) << ", background " << int(bg));
+        // The edge pixel is the mean of its samples' colours (within the 8-bit rounding).
+        double expected = (covered * double(lit) + (n - covered) * double(bg)) / n;
+        CHECK(std::fabs(double(edge) - expected) <= 1.0);
+    }
 }
 
 TEST_CASE("a tessellated plane edge-on and at grazing angles, no errors", "[device][agree]")

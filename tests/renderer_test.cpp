@@ -68,6 +68,28 @@ TEST_CASE("render options and requests are checked with the value named", "[devi
     CHECK_THROWS_WITH(path_from_string("zbuffer"), Catch::Contains("zbuffer"));
 }
 
+TEST_CASE("samples per pixel other than 1, 2, 4, 8, 16 are refused, the value named", "[device][renderer][samples]")
+{
+    Device d = Device::open();
+    Scene s = quad_scene();
+    for (int n : {0, -4, 3, 6, 32}) {
+        RenderOptions bad;
+        bad.samples = n;
+        CHECK_THROWS_WITH(Renderer(d, s, bad), Catch::Contains("samples") && Catch::Contains(std::to_string(n)));
+        CHECK_THROWS_AS(VisibilityBuffer(d, 4, 4, n), Error);
+    }
+    RenderOptions four;
+    four.samples = 4;
+    Renderer r(d, s, four);
+    VisibilityBuffer vis = r.render(front(), 8, 8, Path::Raster);
+    CHECK(vis.samples() == 4);
+    CHECK(vis.key_count() == 8 * 8 * 4);
+    CHECK(vis.read().ids.size() == 8 * 8 * 4);
+    VisibilityBuffer one(d, 8, 8);
+    CHECK_THROWS_WITH(r.render(front(), Path::Ray, one), Catch::Contains("sample"));
+    CHECK_THROWS_WITH(resolve(r, vis, front(), AttributeRequest{}), Catch::Contains("sample"));
+}
+
 TEST_CASE("both paths render into a buffer the caller owns", "[device][renderer]")
 {
     Device d = Device::open();
