@@ -89,6 +89,12 @@ __kernel void shade(__global const ulong* keys, __global uchar4* out, clvis_came
     if (x >= cam.width || y >= cam.height) return;
     size_t pixel = (size_t)y * cam.width + x;
     clvis_vec3 light = unit3(v3(light_x, light_y, light_z));
+    if (cam.sample_log2 == 0) { /* one sample: straight-line code, as it always was */
+        clvis_vec3 c = shade_sample(keys[pixel], (float)x + 0.5f, (float)y + 0.5f, cam, positions, indices, normals,
+                                    has_normals, triangle_count, mode, light);
+        out[pixel] = rgba(c.x, c.y, c.z);
+        return;
+    }
     int n = 1 << cam.sample_log2;
     clvis_vec3 sum = v3(0.0f, 0.0f, 0.0f);
     for (int k = 0; k < n; ++k) {
