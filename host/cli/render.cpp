@@ -373,7 +373,6 @@ RenderOptions render_options(const RenderArgs& a)
     options.raster_atomics = raster_atomics_from_string(a.raster_atomics);
     options.bvh.max_leaf_size = a.leaf;
     options.coverage = coverage_from_string(a.coverage);
-    samples_log2(a.samples); // 1, 2, 4, 8 or 16, else an error naming the value
     options.samples = a.samples;
     return options;
 }
@@ -398,9 +397,7 @@ void render_command(RenderArgs a)
     if (file.scene.empty()) throw Error(Error::Kind::InvalidArgument, "the scene holds no triangles");
     if (a.ao > 0 && a.image.empty()) throw Error(Error::Kind::InvalidArgument, "--ao: needs --image FILE to write");
     if (a.samples != 1 && (a.ao > 0 || a.spread.any() || !a.views.empty()))
-        throw Error(Error::Kind::InvalidArgument, "--samples " + std::to_string(a.samples) +
-                                                      ": --ao, --views, --devices and --distribute draw one sample "
-                                                      "per pixel");
+        throw Error(Error::Kind::InvalidArgument, "--samples: --ao, --views, --devices, --distribute draw 1 per pixel");
     if (a.spread.any())
         return render_spread(a.spread, {a.path, a.views, a.image, a.device.spec, &file, load_ms, cameras, a.width,
                                         a.height, render_options(a), a.ids, a.depth, a.repeat, a.json, a.quiet});
