@@ -92,3 +92,21 @@ endif()
 
 # A malformed --depths is unusable input.
 clvis(2 compare ${WORK}/raster.tif ${WORK}/ray.tif ${MESH} ${camera} --depths ${WORK}/raster.exr)
+
+# Four samples per pixel (--samples 4): files of channels id0..id3 and Z0..Z3 from both paths, every
+# sample judged (64 x 48 x 4 = 12288), no error; a sample count that does not exist is refused.
+foreach(path raster ray)
+  clvis(0 render ${MESH} ${camera} --samples 4 --path ${path} --ids ${WORK}/ms-${path}.exr
+        --depth ${WORK}/msz-${path}.exr --image ${WORK}/ms-${path}.png -q)
+endforeach()
+clvis(0 compare ${WORK}/ms-raster.exr ${WORK}/ms-ray.exr ${MESH} ${camera}
+      --depths ${WORK}/msz-raster.exr,${WORK}/msz-ray.exr)
+adds_up("${out}" TRUE)
+if(NOT out MATCHES "12288 pixels, 12288 judged: [0-9]+ equal, [0-9]+ explained, 0 errors")
+  message(FATAL_ERROR "expected every one of 12288 samples judged, without error: ${out}")
+endif()
+clvis(2 compare ${WORK}/ms-raster.exr ${WORK}/raster.tif ${MESH} ${camera})
+execute_process(COMMAND ${CLVIS} render ${MESH} ${camera} --samples 3 -q RESULT_VARIABLE rc ERROR_VARIABLE e)
+if(rc EQUAL 0 OR NOT e MATCHES "got 3")
+  message(FATAL_ERROR "--samples 3 should be refused, naming 3: ${rc} ${e}")
+endif()
