@@ -33,8 +33,8 @@ __kernel void ray_brute(clvis_camera_gpu cam, __global const float* positions, _
     }
 #else
     clvis_vec3 origin, dir;
-    clvis_primary_ray(cam, (float)px + clvis_sample_fraction(cam.sample_log2, cam.sample, 0),
-                      (float)py + clvis_sample_fraction(cam.sample_log2, cam.sample, 1), &origin, &dir);
+    clvis_vec2 f = clvis_camera_sample(cam); /* (0.5f, 0.5f): one sample */
+    clvis_primary_ray(cam, (float)px + f.x, (float)py + f.y, &origin, &dir);
     clvis_ray_shear ray = clvis_make_shear(origin, dir);
     for (uint id = 0; id < triangle_count; ++id) {
         size_t i = 3 * (size_t)id;

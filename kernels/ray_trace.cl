@@ -255,10 +255,8 @@ static lanes_f component(lanes_f x, lanes_f y, lanes_f z, lanes_i k)
    Lanes past the image's edge repeat the edge pixel's ray and are not written. */
 static void make_packet(clvis_camera_gpu cam, int x0, int y0, packet* out)
 {
-    float fx = clvis_sample_fraction(cam.sample_log2, cam.sample, 0); /* 0.5f: one sample */
-    float fy = clvis_sample_fraction(cam.sample_log2, cam.sample, 1);
-    lanes_f rx = convert_float16(min((lanes_i)(x0) + CLVIS_LANE_X, (lanes_i)(cam.width - 1))) + fx;
-    lanes_f ry = convert_float16(min((lanes_i)(y0) + CLVIS_LANE_Y, (lanes_i)(cam.height - 1))) + fy;
+    lanes_f rx = convert_float16(min((lanes_i)(x0) + CLVIS_LANE_X, (lanes_i)(cam.width - 1))) + clvis_camera_sample(cam).x;
+    lanes_f ry = convert_float16(min((lanes_i)(y0) + CLVIS_LANE_Y, (lanes_i)(cam.height - 1))) + clvis_camera_sample(cam).y;
     /* clvis_screen_from_raster */
     lanes_f sx = (rx - cam.cx) / cam.fx;
     lanes_f sy = (cam.cy - ry) / cam.fy;
@@ -473,8 +471,7 @@ static void trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int 
     for (int l = 0; l < CLVIS_PACKET; ++l) {
         int x = x0 + l % CLVIS_PACKET_W, y = y0 + l / CLVIS_PACKET_W;
         if (x < x_end && y < y_end)
-            keys[(((size_t)(y - region.y) * (size_t)region.width + (size_t)(x - region.x)) << cam.sample_log2) +
-                 (size_t)cam.sample] = best[l];
+            keys[(((size_t)(y - region.y) * region.width + (x - region.x)) << cam.sample_log2) + cam.sample] = best[l];
     }
 }
 

@@ -80,6 +80,16 @@ static inline float clvis_window_right(clvis_camera_gpu cam) { return ((float)ca
 static inline float clvis_window_bottom(clvis_camera_gpu cam) { return (cam.cy - (float)cam.height) / cam.fy; }
 static inline float clvis_window_top(clvis_camera_gpu cam) { return cam.cy / cam.fy; }
 
+/* Where the camera's sample (sample of 2^sample_log2, shared/samples.h) lies inside every pixel,
+   px from its top-left corner: (0.5, 0.5) for one sample. */
+static inline clvis_vec2 clvis_camera_sample(clvis_camera_gpu cam)
+{
+    clvis_vec2 f;
+    f.x = clvis_sample_fraction(cam.sample_log2, cam.sample, 0);
+    f.y = clvis_sample_fraction(cam.sample_log2, cam.sample, 1);
+    return f;
+}
+
 /* The primary ray through raster position (rx, ry). Its direction is not normalised: the ray
    parameter t of a hit equals its view depth (CONVENTIONS.md "Primary rays"). */
 static inline void clvis_primary_ray(clvis_camera_gpu cam, float rx, float ry,
