@@ -24,6 +24,9 @@ void check_buffer(Renderer::Impl& r, const VisibilityBuffer& vis, const char* wh
     if (vis.empty()) throw Error(Error::Kind::InvalidArgument, std::string(what) + ": empty visibility buffer");
     if (vis.device().context() != r.device.context())
         throw Error(Error::Kind::InvalidArgument, std::string(what) + ": the buffer belongs to another OpenCL context");
+    if (vis.samples() != 1)
+        throw Error(Error::Kind::InvalidArgument, std::string(what) + ": rays start from one sample per pixel, the "
+                                                                     "buffer holds " + std::to_string(vis.samples()));
 }
 
 double diagonal(const Scene& scene)
