@@ -43,6 +43,7 @@ struct PyRenderer {
     Lock lock;
     std::uint32_t triangles = 0;
     std::unique_ptr<RayQuery> query;
+    int samples = 1; ///< per pixel (the samples= keyword): render() makes (H, W, samples) arrays when > 1
     /// The arrays of the last render() that made its own: reused by the next render of that
     /// size once nothing else refers to them (the caller dropped that result), so that a loop of
     /// renders allocates no host memory. Touched with the GIL held only.
@@ -50,7 +51,7 @@ struct PyRenderer {
         nb::object ids, depth;
         std::uint32_t* ids_data = nullptr;
         float* depth_data = nullptr;
-        int width = 0, height = 0;
+        int width = 0, height = 0, samples = 1;
     } spare;
 };
 
@@ -82,12 +83,12 @@ struct ReadTarget {
     float* depth = nullptr; ///< null when not read
 };
 
-/// The arrays a render reads back into, kept in `vis` (ids_out, depth_out): with `out` None, two
-/// new (H, W) arrays, read-only to Python (numpy.empty: no page touched before the read;
+/// The arrays a render reads back into, kept in `vis` (ids_out, depth_out), of shape (H, W), or
+/// (H, W, samples) with several samples per pixel: with `out` None, two new arrays, read-only to Python (numpy.empty: no page touched before the read;
 /// Error(Limit) when the host cannot hold them); else the caller's, an (H, W) uint32 ids array or
 /// (ids, depth) with depth an (H, W) float32 array or None, each writable, C-contiguous, of the
 /// image's size (Error(InvalidArgument) naming which otherwise). Needs the GIL.
-ReadTarget read_target(PyVisibility& vis, nb::handle out, int width, int height);
+ReadTarget read_target(PyVisibility& vis, nb::handle out, int width, int height, int samples = 1);
 
 /// The device buffer of a Visibility rendered whole by a Renderer, for `what` (resolve, shade,
 /// ambient occlusion): Error(InvalidArgument) naming `what` for one made otherwise, or of a region
@@ -141,12 +142,13 @@ inline auto option_args()
 {
     return std::make_tuple(nb::kw_only(), nb::arg("tile") = 0, nb::arg("cull") = "none", nb::arg("leaf_size") = 4,
                            nb::arg("sah_bins") = 16, nb::arg("bvh_update") = "refit",
-                           nb::arg("raster_atomics") = "auto", nb::arg("coverage") = "watertight");
+                           nb::arg("raster_atomics") = "auto", nb::arg("coverage") = "watertight",
+                           nb::arg("samples") = 1);
 }
 
 /// The RenderOptions of a Renderer's keyword arguments, named as the command line names them.
 RenderOptions render_options(int tile, const std::string& cull, int leaf_size, int sah_bins,
                              const std::string& bvh_update, const std::string& raster_atomics,
-                             const std::string& coverage);
+                             const std::string& coverage, int samples);
 
 } // namespace clvis::python

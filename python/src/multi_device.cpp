@@ -82,8 +82,10 @@ void bind_multi_device(nb::module_& m)
     nb::class_<PyMultiRenderer> c(m, "MultiDeviceRenderer", multi_doc);
     const auto init = [](PyMultiRenderer* self, const std::vector<Device>& devices, PyScene& scene, int tile,
                          const std::string& cull, int leaf_size, int sah_bins, const std::string& bvh_update,
-                         const std::string& raster_atomics, const std::string& coverage) {
-        const RenderOptions o = render_options(tile, cull, leaf_size, sah_bins, bvh_update, raster_atomics, coverage);
+                         const std::string& raster_atomics, const std::string& coverage, int samples) {
+        // samples > 1: the C++ MultiDeviceRenderer refuses it, naming it.
+        const RenderOptions o =
+            render_options(tile, cull, leaf_size, sah_bins, bvh_update, raster_atomics, coverage, samples);
         unlocked(scene.lock, [&] { new (self) PyMultiRenderer{MultiDeviceRenderer(devices, scene.scene, o), {}, {}}; });
     };
     std::apply([&](auto... options) { c.def("__init__", init, nb::arg("devices"), nb::arg("scene"), options...); },

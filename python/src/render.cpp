@@ -22,9 +22,10 @@ Path path_named(const std::string& name)
 
 RenderOptions render_options(int tile, const std::string& cull, int leaf_size, int sah_bins,
                              const std::string& bvh_update, const std::string& raster_atomics,
-                             const std::string& coverage)
+                             const std::string& coverage, int samples)
 {
     RenderOptions o;
+    o.samples = samples; // checked by the Renderer: 1, 2, 4, 8 or 16
     o.tile_size = tile;
     o.raster_atomics = parse_choice<RasterAtomics>(
         raster_atomics, "raster_atomics", {{"auto", RasterAtomics::Auto}, {"on", RasterAtomics::On}, {"off", RasterAtomics::Off}});
@@ -43,7 +44,8 @@ const HostVisibility& host_of(const PyVisibility& vis, HostVisibility& scratch)
     if (!vis.ids_out.is_valid()) return *vis.host;
     scratch.width = vis.host->width;
     scratch.height = vis.host->height;
-    const std::size_t n = std::size_t(scratch.width) * std::size_t(scratch.height);
+    scratch.samples = vis.host->samples;
+    const std::size_t n = std::size_t(scratch.width) * std::size_t(scratch.height) * std::size_t(scratch.samples);
     const auto* ids = nb::cast<HostArray<std::uint32_t>>(vis.ids_out, false).data();
     scratch.ids.assign(ids, ids + n);
     scratch.depth.clear();
@@ -85,34 +87,43 @@ Region region_of(nb::handle region)
 
 namespace {
 
-/// numpy.empty((height, width), dtype), read-only to Python, and its data for the read-back.
-/// Error(Limit) when the host cannot hold it.
+/// numpy.empty((height, width), dtype), or (height, width, samples) when samples > 1, read-only to
+/// Python, and its data for the read-back. Error(Limit) when the host cannot hold it.
 template <class T>
-nb::object new_array(std::size_t height, std::size_t width, const char* dtype, T*& data)
+nb::object new_array(std::size_t height, std::size_t width, std::size_t samples, const char* dtype, T*& data)
 {
     static PyObject* empty = nb::object(nb::module_::import_("numpy").attr("empty")).release().ptr();
     nb::object a;
     try {
-        a = nb::handle(empty)(nb::make_tuple(height, width), dtype);
+        a = nb::handle(empty)(samples > 1 ? nb::make_tuple(height, width, samples) : nb::make_tuple(height, width), dtype);
     } catch (const nb::python_error& e) {
         if (!e.matches(PyExc_MemoryError)) throw;
         throw Error(Error::Kind::Limit, "render: the host cannot hold the " + std::to_string(width) + "x" +
                                             std::to_string(height) + " visibility buffer's " + dtype + " array");
     }
-    data = static_cast<T*>(writable_data(a, format_of<T>(), sizeof(T), {height, width}));
+    data = static_cast<T*>(samples > 1 ? writable_data(a, format_of<T>(), sizeof(T), {height, width, samples})
+                                       : writable_data(a, format_of<T>(), sizeof(T), {height, width}));
     a.attr("setflags")(nb::arg("write") = false); // NumPy's flag: the read-back writes through `data`
     return a;
 }
 
 } // namespace
 
-ReadTarget read_target(PyVisibility& vis, nb::handle out, int width, int height)
+/// The caller's output array `obj` for `what`: C-contiguous, writable, (h, w) or (h, w, n) when n > 1.
+template <class T>
+T* caller_array(nb::handle obj, const char* what, const char* dtype, std::size_t h, std::size_t w, std::size_t n)
+{
+    return n > 1 ? output_array<T>(obj, what, dtype, {h, w, n}) : output_array<T>(obj, what, dtype, {h, w});
+}
+
+ReadTarget read_target(PyVisibility& vis, nb::handle out, int width, int height, int samples)
 {
     ReadTarget target;
     const std::size_t h = std::size_t(height > 0 ? height : 0), w = std::size_t(width > 0 ? width : 0);
+    const std::size_t n = std::size_t(samples > 1 ? samples : 1);
     if (out.is_none()) {
-        vis.ids_out = new_array(h, w, "uint32", target.ids);
-        vis.depth_out = new_array(h, w, "float32", target.depth);
+        vis.ids_out = new_array(h, w, n, "uint32", target.ids);
+        vis.depth_out = new_array(h, w, n, "float32", target.depth);
         return target;
     }
     nb::handle ids = out, depth;
@@ -123,10 +134,10 @@ ReadTarget read_target(PyVisibility& vis, nb::handle out, int width, int height)
         ids = out[0];
         depth = out[1];
     }
-    target.ids = output_array<std::uint32_t>(ids, "render: out ids", "uint32", {h, w});
+    target.ids = caller_array<std::uint32_t>(ids, "render: out ids", "uint32", h, w, n);
     vis.ids_out = nb::borrow(ids);
     if (depth.is_valid() && !depth.is_none()) {
-        target.depth = output_array<float>(depth, "render: out depth", "float32", {h, w});
+        target.depth = caller_array<float>(depth, "render: out depth", "float32", h, w, n);
         vis.depth_out = nb::borrow(depth);
     }
     return target;
@@ -139,7 +150,8 @@ namespace {
 bool take_spare(PyRenderer& r, PyVisibility& vis, int width, int height, ReadTarget& target)
 {
     PyRenderer::Spare& s = r.spare;
-    if (!s.ids.is_valid() || s.width != width || s.height != height || Py_REFCNT(s.ids.ptr()) != 1 ||
+    if (!s.ids.is_valid() || s.width != width || s.height != height || s.samples != r.samples ||
+        Py_REFCNT(s.ids.ptr()) != 1 ||
         Py_REFCNT(s.depth.ptr()) != 1)
         return false;
     vis.ids_out = std::move(s.ids);
@@ -151,7 +163,7 @@ bool take_spare(PyRenderer& r, PyVisibility& vis, int width, int height, ReadTar
 /// Keeps the arrays render() made for `vis` as the renderer's spare.
 void keep_spare(PyRenderer& r, const PyVisibility& vis, int width, int height, const ReadTarget& target)
 {
-    r.spare = PyRenderer::Spare{vis.ids_out, vis.depth_out, target.ids, target.depth, width, height};
+    r.spare = PyRenderer::Spare{vis.ids_out, vis.depth_out, target.ids, target.depth, width, height, r.samples};
 }
 
 /// Renders (all of the image or `region`) and reads back once, into the Visibility's own arrays
@@ -168,7 +180,7 @@ nb::object render(PyRenderer& r, const Camera& camera, int width, int height, co
     if (!region.is_none()) vis.region = region_of(region);
     const int w = vis.region ? vis.region->width : width, h = vis.region ? vis.region->height : height;
     ReadTarget target;
-    if (!out.is_none() || !take_spare(r, vis, w, h, target)) target = read_target(vis, out, w, h);
+    if (!out.is_none() || !take_spare(r, vis, w, h, target)) target = read_target(vis, out, w, h, r.samples);
     unlocked(r.lock, [&] {
         timed(vis, [&] {
             if (vis.region) {
@@ -184,6 +196,7 @@ nb::object render(PyRenderer& r, const Camera& camera, int width, int height, co
     if (out.is_none()) keep_spare(r, vis, w, h, target);
     vis.host->width = w;
     vis.host->height = h;
+    vis.host->samples = r.samples;
     return result;
 }
 
@@ -253,11 +266,13 @@ void bind_visibility(nb::module_& m)
             "A visibility buffer from (H, W) arrays (copied), e.g. another renderer's, for the Referee or files.")
         .def_prop_ro("width", [](const PyVisibility& v) { return v.host->width; })
         .def_prop_ro("height", [](const PyVisibility& v) { return v.host->height; })
+        .def_prop_ro("samples", [](const PyVisibility& v) { return v.host->samples; }, "Samples per pixel.")
         .def_prop_ro("ids", [](const PyVisibility& v) {
             if (v.ids_out.is_valid()) return v.ids_out;
             const HostVisibility& h = *v.host;
             return nb::cast(numpy_view(h.ids.data(), {std::size_t(h.height), std::size_t(h.width)}, keep_alive(v.host)));
-        }, "(H, W) uint32: the same array at every access; read-only unless the caller's (out=).")
+        }, "(H, W) uint32, or (H, W, samples) with several samples per pixel: the same array at every\n"
+           "access; read-only unless the caller's (out=).")
         .def_prop_ro("depth", [](const PyVisibility& v) -> nb::object {
             if (v.ids_out.is_valid()) return v.depth_out.is_valid() ? v.depth_out : nb::none();
             const HostVisibility& h = *v.host;
@@ -291,7 +306,9 @@ const char* renderer_doc =
     "cull ('none', 'back', 'front'), leaf_size and sah_bins (the BVH), bvh_update ('refit', 'rebuild'),\n"
     "raster_atomics ('auto', 'on': 64-bit atomic depth test, 'off': tile ownership; the same keys),\n"
     "coverage (the ray paths' inside test: 'watertight', or 'raster-rule': the raster path's own\n"
-    "rule, so that ray and raster buffers are bit-identical).\n"
+    "rule, so that ray and raster buffers are bit-identical), samples (per pixel: 1, 2, 4, 8 or 16 at\n"
+    "the standard positions; with more than 1, render() returns (H, W, samples) arrays, the samples of\n"
+    "a pixel adjacent, and shade() averages them; resolve and ambient occlusion take 1 only).\n"
     "Methods release the GIL while the device works; one Renderer serves one call at a time.\n\n"
     "Example:\n    renderer = clvis.Renderer(clvis.Device('cpu'), scene)\n"
     "    vis = renderer.render(camera, 640, 360, path='ray')";
@@ -305,11 +322,12 @@ void bind_render(nb::module_& m)
     nb::class_<PyRenderer> r(m, "Renderer", nb::is_weak_referenceable(), renderer_doc);
     const auto init = [](PyRenderer* self, const Device& device, PyScene& scene, int tile, const std::string& cull,
                          int leaf_size, int sah_bins, const std::string& bvh_update,
-                         const std::string& raster_atomics, const std::string& coverage) {
-        const RenderOptions o = render_options(tile, cull, leaf_size, sah_bins, bvh_update, raster_atomics, coverage);
+                         const std::string& raster_atomics, const std::string& coverage, int samples) {
+        const RenderOptions o =
+            render_options(tile, cull, leaf_size, sah_bins, bvh_update, raster_atomics, coverage, samples);
         unlocked(scene.lock, [&] {
             const auto triangles = std::uint32_t(scene.scene.triangle_count());
-            new (self) PyRenderer{Renderer(device, scene.scene, o), {}, triangles, nullptr, {}};
+            new (self) PyRenderer{Renderer(device, scene.scene, o), {}, triangles, nullptr, samples, {}};
         });
     };
     std::apply([&](auto... options) { r.def("__init__", init, nb::arg("device"), nb::arg("scene"), options...); },
