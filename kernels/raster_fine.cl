@@ -68,3 +68,44 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
         }
     }
 }
+
+/* The same stage mapped for GPUs (RasterMapping::Pixel): a work-group owns a square of
+   get_local_size pixels inside one tile (the host makes its edge divide the tile's), a work-item
+   one pixel. The group walks the tile's bin (or its chunk) together: each batch of up to a
+   group's worth of triangles is copied into `batch` (local memory, a triangle per work-item),
+   then every work-item tests its pixel against the whole batch. The pixel's nearest key stays in
+   private memory and is stored once, merged or not as raster_fine does: the same
+   clvis_raster_sample bits as clvis_raster_span8's lanes, so the same keys. */
+__kernel void raster_fine_pixel(__global const clvis_raster_tri* tris, __global const uint* entries,
+                                __global const uint* offsets, int tile_log2, int tiles_x, clvis_camera_gpu cam,
+                                __global ulong* keys, clvis_region region, uint first, uint chunk, int merge,
+                                __local clvis_raster_tri* batch)
+{
+    int gw = (int)get_local_size(0), gh = (int)get_local_size(1);
+    int px0 = (int)get_group_id(0) * gw, py0 = (int)get_group_id(1) * gh;
+    if (px0 >= region.width || py0 >= region.height) return; /* the whole group: no barrier skipped */
+    int i = px0 + (int)get_local_id(0), j = py0 + (int)get_local_id(1);
+    int lid = (int)get_local_id(1) * gw + (int)get_local_id(0), items = gw * gh;
+    int inside = i < region.width && j < region.height;
+    uint tile = (uint)(py0 >> tile_log2) * (uint)tiles_x + (uint)(px0 >> tile_log2);
+    uint begin = offsets[tile], end = offsets[tile + 1];
+    begin = first < end - begin ? begin + first : end;
+    end = chunk < end - begin ? begin + chunk : end;
+
+    ulong best = CLVIS_BACKGROUND_KEY;
+    for (uint base = begin; base < end; base += (uint)items) {
+        uint count = min((uint)items, end - base);
+        barrier(CLK_LOCAL_MEM_FENCE); /* the previous batch read by every work-item */
+        if ((uint)lid < count) batch[lid] = tris[entries[base + (uint)lid]];
+        barrier(CLK_LOCAL_MEM_FENCE);
+        for (uint b = 0; b < count; ++b) {
+            if (!inside || j < batch[b].y0 || j > batch[b].y1 || i < batch[b].x0 || i > batch[b].x1) continue;
+            clvis_raster_tri t = batch[b];
+            best = min(best, clvis_raster_sample(&t, i, j, cam.ortho, cam.near_d, cam.far_d));
+        }
+    }
+    if (!inside || (merge && best == CLVIS_BACKGROUND_KEY)) return;
+    /* the camera's sample of the pixel: samples of a pixel are adjacent (shared/samples.h) */
+    __global ulong* key = keys + (((size_t)j * (size_t)region.width + (size_t)i) << cam.sample_log2) + (size_t)cam.sample;
+    *key = merge ? min(*key, best) : best;
+}

@@ -30,6 +30,7 @@ expect(2 "--width" render ${MESH} --width)
 expect(2 "--bogus" render ${MESH} --bogus)
 expect(2 "--path" render ${MESH} --path zbuffer)
 expect(2 "--raster-atomics" render ${MESH} --raster-atomics sometimes)
+expect(2 "--raster-mapping" render ${MESH} --raster-mapping tiles)
 expect(2 "--fov.*--ortho|--ortho.*--fov" render ${MESH} --fov 30 --ortho 2)
 expect(2 "--repeat" render ${MESH} --repeat -1)
 expect(2 "--repeat" bench --repeat 0)
@@ -86,6 +87,9 @@ expect(0 "\"height\": 40.*\"width\": 80" render ${WORK}/scene.json --path all --
 # The raster path's depth test, chosen or resolved from the device, is reported.
 expect(0 "\"raster_atomics\": \"off\"" render ${MESH} ${size} --raster-atomics off --json)
 expect(0 "\"raster_atomics\": \"o[nf]f?\"" render ${MESH} ${size} --json)
+# The raster fine stage's mapping, chosen, is reported; the pixel mapping renders.
+expect(0 "\"raster_mapping\": \"pixel\"" render ${MESH} ${size} --raster-mapping pixel --json)
+expect(0 "\"raster_mapping\": \"square\"" render ${MESH} ${size} --json)
 if(WITH_IMAGE_IO)
   expect(0 "" render ${WORK}/scene.json --image ${WORK}/scene.png --ids ${WORK}/scene.tif --path raster --quiet)
   expect(0 "" render ${WORK}/scene.json --ids ${WORK}/scene-ray.tif --path ray --quiet)

@@ -231,6 +231,24 @@ TEST_CASE("tile and BVH leaf sizes other than the defaults run clean on Oclgrind
     }
 }
 
+TEST_CASE("the pixel mapping of the raster fine stage runs clean on Oclgrind", "[.oclgrind]")
+{
+    // Its batches in local memory between barriers, under both depth tests and a tile smaller
+    // than its largest group (Oclgrind checks barriers, races and local memory); keys as PoCL's.
+    Device pocl = Device::open("portable computing language");
+    for (RasterAtomics mode : {RasterAtomics::Off, RasterAtomics::Auto}) {
+        for (int tile : {0, 8}) {
+            RenderOptions o;
+            o.raster_mapping = RasterMapping::Pixel;
+            o.raster_atomics = mode;
+            o.tile_size = tile;
+            Case c = std::move(cases().front());
+            INFO(c.name << ", atomics " << to_string(mode) << ", tile " << tile);
+            check_on_grind(pocl, c, Path::Raster, o);
+        }
+    }
+}
+
 TEST_CASE("the two-level walk of instances runs clean on Oclgrind in both coverage modes", "[.oclgrind]")
 {
     // The first case's mesh as a prototype: a plain copy, then three instances (one mirrored).

@@ -27,19 +27,16 @@ struct RenderArgs {
     SceneInput scene;
     CameraOptions camera;
     DeviceOptions device;
-    std::string path = "raster";
+    std::string path = "raster", raster_mapping = "square"; ///< raster_mapping: RenderOptions::raster_mapping
     std::string ids, depth, image, shade = "lambert", cull = "none", raster_atomics = "auto";
     std::string coverage = "watertight"; ///< the ray paths' inside test (RenderOptions::coverage)
     std::string bary, normals, position; ///< attributes resolved from the buffer (EXR)
     std::string visible;                 ///< the visible set: ids, one per line, ascending
     std::string views;                   ///< a views file: many cameras, one batch
-    int repeat = 0;
     int samples = 1; ///< samples per pixel (RenderOptions::samples)
     int ao = 0; ///< rays per pixel of the ambient-occlusion image; 0: a shaded image
-    int tile = 0;
-    int leaf = 4;
-    bool json = false;
-    bool quiet = false;
+    int tile = 0, leaf = 4, repeat = 0;
+    bool json = false, quiet = false;
     bool timings = false; ///< --timings: what the first frame costs, phase by phase
     int width = 0, height = 0; ///< the image size, once resolved
     SpreadArgs spread; ///< --devices, --distribute: several devices or MPI ranks
@@ -351,6 +348,7 @@ nlohmann::json render_json(const RenderArgs& a, const SceneFile& file,
     j["device"] = device.info().name;
     // The raster path's depth test as Auto resolves it (RasterPipeline: atomics where offered).
     j["raster_atomics"] = a.raster_atomics != "auto" ? a.raster_atomics : device.info().int64_atomics ? "on" : "off";
+    j["raster_mapping"] = a.raster_mapping;
     j["load_ms"] = load_ms;
     j["warm_up"] = a.repeat > 0 || a.timings;
     j["camera"] = camera.to_flags();
@@ -371,6 +369,7 @@ RenderOptions render_options(const RenderArgs& a)
     options.tile_size = a.tile;
     options.cull = a.cull == "back" ? Cull::Back : a.cull == "front" ? Cull::Front : Cull::None;
     options.raster_atomics = raster_atomics_from_string(a.raster_atomics);
+    options.raster_mapping = raster_mapping_from_string(a.raster_mapping);
     options.bvh.max_leaf_size = a.leaf;
     options.coverage = coverage_from_string(a.coverage);
     options.samples = a.samples;
@@ -482,6 +481,8 @@ void add_render_command(CLI::App& app)
                     "raster depth test: on (64-bit atomics), off (tile ownership, no atomics) or auto (on where "
                     "the device has 64-bit atomics); the same keys either way")
         ->check(CLI::IsMember({"auto", "on", "off"}));
+    cmd->add_option("--raster-mapping", args->raster_mapping, "raster fine stage: square (CPUs) or pixel (GPUs); same keys")
+        ->check(CLI::IsMember({"square", "pixel"}));
     cmd->add_option("--leaf-size", args->leaf, "BVH: triangles per leaf at most");
     args->spread.add_to(*cmd);
     cmd->add_option("--coverage", args->coverage,

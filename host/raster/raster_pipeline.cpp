@@ -4,8 +4,10 @@
 // or Auto on a device without 64-bit atomics) setup lists every triangle and raster_fine.cl writes
 // every key once, with no clear and no atomics on the keys. On a device that caps the loop
 // iterations of a work-item (Device::Impl::loop_limit), raster_fine.cl walks long bins in several
-// launches. The host plans every capacity from counts read back during the frame and grows
-// buffers (re-running the stage that overflowed) rather than drop.
+// launches. RasterMapping::Pixel runs raster_fine_pixel instead (a work-group per square of a
+// tile, a work-item per pixel, the bin walked in batches through local memory). The host plans
+// every capacity from counts read back during the frame and grows buffers (re-running the stage
+// that overflowed) rather than drop.
 #include "render/pipeline.hpp"
 
 #include "runtime/cl_runtime.hpp"
@@ -42,6 +44,9 @@ constexpr int default_tile_log2 = 4;
 constexpr std::size_t linear_group = 64;
 /// Work-items per group edge of raster_fine.cl (each owns a square of pixels), at most.
 constexpr std::size_t fine_group_edge = 4;
+/// Pixels per group edge of raster_fine_pixel, at most (the device's grant and local memory may
+/// allow fewer; the tile's edge caps it too).
+constexpr std::size_t pixel_group_edge = 16;
 /// Work-items of the single work-group of raster_bin_scan, at most.
 constexpr std::size_t scan_group = 256;
 /// First capacities of the growable buffers (elements); they double or jump to what a frame needs.
@@ -62,6 +67,7 @@ struct RasterPipeline::Impl {
     int tile_log2 = default_tile_log2;
     int cull = CLVIS_CULL_NONE;
     bool owned = false; ///< tile ownership: raster_setup.cl built with CLVIS_RASTER_OWNED
+    bool pixel = false; ///< RasterMapping::Pixel: raster_fine_pixel
     std::uint32_t loop_limit = Device::Impl::loop_unlimited; ///< the device's, measured
     std::uint32_t fine_chunk = 0xFFFFFFFFu; ///< bin entries per launch of raster_fine.cl
     cl::Kernel clear, zero, vertices, setup, bin_count, bin_scan, bin_fill, fine;
@@ -71,7 +77,8 @@ struct RasterPipeline::Impl {
     cl::Buffer projected, tris, entries, tile_counts, offsets, cursors;
     std::size_t projected_capacity = 0, tri_capacity = 0, entry_capacity = 0, tile_capacity = 0;
 
-    Impl(Device::Impl& d, const RenderOptions& o) : device(d), cull(cull_mode(o.cull))
+    Impl(Device::Impl& d, const RenderOptions& o)
+        : device(d), cull(cull_mode(o.cull)), pixel(o.raster_mapping == RasterMapping::Pixel)
     {
         owned = o.raster_atomics == RasterAtomics::Off ||
                 (o.raster_atomics == RasterAtomics::Auto && !device.info.int64_atomics);
@@ -96,10 +103,21 @@ struct RasterPipeline::Impl {
         setup_group = std::min(linear_group, floor_pow2(granted(setup)));
         bin_group = std::min({linear_group, floor_pow2(granted(bin_count)), floor_pow2(granted(bin_fill))});
         scan_items = std::min(scan_group, floor_pow2(granted(bin_scan)));
-        // raster_fine.cl: a work-item per square of fine_square() pixels; no barriers, so any
-        // group the kernel grants will do.
         auto item_sizes = device.device.getInfo<CL_DEVICE_MAX_WORK_ITEM_SIZES>();
         std::size_t max_group = floor_pow2(granted(fine));
+        if (pixel) {
+            // raster_fine_pixel: a square group of pixels that divides the tile, within the
+            // kernel's grant, the item sizes, and half the local memory (a triangle per item).
+            std::size_t local = device.device.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
+            std::size_t items = std::min(max_group, floor_pow2(local / 2 / sizeof(clvis_raster_tri)));
+            std::size_t edge = std::min({pixel_group_edge, std::size_t(1) << tile_log2,
+                                         floor_pow2(item_sizes.at(0)), floor_pow2(item_sizes.at(1))});
+            while (edge > 1 && edge * edge > items) edge /= 2;
+            fine_group = cl::NDRange(edge, edge);
+            return;
+        }
+        // raster_fine.cl: a work-item per square of fine_square() pixels; no barriers, so any
+        // group the kernel grants will do.
         std::size_t gx = std::min({fine_group_edge, max_group, floor_pow2(item_sizes.at(0))});
         std::size_t gy = std::min({fine_group_edge, max_group / gx, floor_pow2(item_sizes.at(1))});
         fine_group = cl::NDRange(gx, gy);
@@ -113,10 +131,12 @@ struct RasterPipeline::Impl {
         loop_limit = device.loop_limit();
         if (loop_limit == Device::Impl::loop_unlimited) return;
         std::uint32_t budget = loop_limit / 2;
-        if (budget < CLVIS_FINE_TRIPS_FIXED + CLVIS_FINE_TRIPS_PER_ENTRY)
+        if (budget < CLVIS_FINE_TRIPS_FIXED + CLVIS_FINE_TRIPS_PER_ENTRY) // the larger of the two mappings'
             throw Error(Error::Kind::Device, device.info.name + " ends loops after " + std::to_string(loop_limit) +
                                                  " iterations per work-item, too few for the raster path");
-        fine_chunk = (budget - CLVIS_FINE_TRIPS_FIXED) / CLVIS_FINE_TRIPS_PER_ENTRY;
+        std::uint32_t fixed = pixel ? CLVIS_FINE_PIXEL_TRIPS_FIXED : CLVIS_FINE_TRIPS_FIXED;
+        std::uint32_t per_entry = pixel ? CLVIS_FINE_PIXEL_TRIPS_PER_ENTRY : CLVIS_FINE_TRIPS_PER_ENTRY;
+        fine_chunk = (budget - fixed) / per_entry;
     }
 
     /// A zeroed device buffer. Made from host zeros rather than left undefined: Oclgrind 21.10 reported
@@ -321,9 +341,11 @@ struct RasterPipeline::Impl {
         fine.setArg(6, frame.keys);
         fine.setArg(7, sizeof frame.region, &frame.region);
         fine.setArg(9, cl_uint(fine_chunk));
-        std::size_t squares_x = (std::size_t(frame.width) + fine_square() - 1) / fine_square();
-        std::size_t squares_y = (std::size_t(frame.height) + fine_square() - 1) / fine_square();
+        std::size_t square = pixel ? 1 : fine_square(); // pixels a side per work-item
+        std::size_t squares_x = (std::size_t(frame.width) + square - 1) / square;
+        std::size_t squares_y = (std::size_t(frame.height) + square - 1) / square;
         cl::NDRange fine_global(round_up(squares_x, fine_group[0]), round_up(squares_y, fine_group[1]));
+        if (pixel) fine.setArg(11, cl::Local(fine_group[0] * fine_group[1] * sizeof(clvis_raster_tri)));
         cl_ulong first = 0;
         do {
             cl::Event drawn;
@@ -355,7 +377,7 @@ RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& option
         m.bin_count = cl::Kernel(bin, "raster_bin_count");
         m.bin_scan = cl::Kernel(bin, "raster_bin_scan");
         m.bin_fill = cl::Kernel(bin, "raster_bin_fill");
-        m.fine = cl::Kernel(device.program("raster_fine"), "raster_fine");
+        m.fine = cl::Kernel(device.program("raster_fine"), m.pixel ? "raster_fine_pixel" : "raster_fine");
         m.pick_groups();
         m.plan_fine_chunks();
         m.counters = m.make_buffer(3 * sizeof(cl_ulong));

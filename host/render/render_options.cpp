@@ -32,6 +32,15 @@ const char* to_string(RasterAtomics mode) noexcept
     return "unknown";
 }
 
+const char* to_string(RasterMapping mapping) noexcept
+{
+    switch (mapping) {
+    case RasterMapping::Square: return "square";
+    case RasterMapping::Pixel: return "pixel";
+    }
+    return "unknown";
+}
+
 const char* to_string(Coverage coverage) noexcept
 {
     switch (coverage) {
@@ -46,6 +55,13 @@ RasterAtomics raster_atomics_from_string(const std::string& name)
     for (RasterAtomics m : {RasterAtomics::Auto, RasterAtomics::On, RasterAtomics::Off})
         if (name == to_string(m)) return m;
     throw Error(Error::Kind::InvalidArgument, "unknown raster atomics mode '" + name + "' (auto, on or off)");
+}
+
+RasterMapping raster_mapping_from_string(const std::string& name)
+{
+    for (RasterMapping m : {RasterMapping::Square, RasterMapping::Pixel})
+        if (name == to_string(m)) return m;
+    throw Error(Error::Kind::InvalidArgument, "unknown raster mapping '" + name + "' (square or pixel)");
 }
 
 int samples_log2(int samples)

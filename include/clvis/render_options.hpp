@@ -85,6 +85,19 @@ const char* to_string(RasterAtomics mode) noexcept;
 /// "auto", "on" or "off"; throws Error(InvalidArgument) otherwise.
 RasterAtomics raster_atomics_from_string(const std::string& name);
 
+/// How the raster path's fine stage (kernels/raster_fine.cl) maps work onto a device. Both give
+/// the same keys, bit for bit.
+enum class RasterMapping {
+    Square, ///< a work-item per square of up to 16x16 pixels of a tile, walking the tile's bin
+            ///< alone on 8-pixel vector spans (suits CPU devices: PoCL vectorizes the spans)
+    Pixel,  ///< a work-group per square of a tile, a work-item per pixel; the group walks the
+            ///< tile's bin together, in batches of triangles copied into local memory (GPUs)
+};
+
+const char* to_string(RasterMapping mapping) noexcept;
+/// "square" or "pixel"; throws Error(InvalidArgument) otherwise.
+RasterMapping raster_mapping_from_string(const std::string& name);
+
 struct RenderOptions {
     int tile_size = 0;      ///< raster tile edge in pixels (a power of two); 0 picks the default
     /// Renderer::render(camera, width, height, path) renders only this part of the image, into a
@@ -92,6 +105,7 @@ struct RenderOptions {
     Region region;
     Cull cull = Cull::None; ///< face culling, on every path (see Cull)
     RasterAtomics raster_atomics = RasterAtomics::Auto; ///< the raster path's depth test (see RasterAtomics)
+    RasterMapping raster_mapping = RasterMapping::Square; ///< the raster fine stage's mapping (see RasterMapping)
     BvhOptions bvh;         ///< the ray path's tree (Path::Ray; the brute path has none)
     Coverage coverage = Coverage::Watertight; ///< the ray paths' inside test (see Coverage)
     /// Samples per pixel: 1, 2, 4, 8 or 16, at the standard positions of CONVENTIONS.md

@@ -446,5 +446,9 @@ static inline int clvis_raster_setup_region(clvis_raster_vertex v0, clvis_raster
    device's loop limit (Device::Impl::loop_limit). */
 #define CLVIS_FINE_TRIPS_PER_ENTRY (2 + CLVIS_FINE_SUB * (2 + CLVIS_FINE_SPANS))
 #define CLVIS_FINE_TRIPS_FIXED (2 * (1 + CLVIS_FINE_SUB * (2 + CLVIS_FINE_SPANS)) + 9 * CLVIS_FINE_SUB * CLVIS_FINE_SPANS + 9)
+/* The same for raster_fine_pixel, whose batches hold at least one entry: per entry (the batch
+   loop's pass, the triangle loop's pass and its exit), and the rest (the batch loop's exit). */
+#define CLVIS_FINE_PIXEL_TRIPS_PER_ENTRY 3
+#define CLVIS_FINE_PIXEL_TRIPS_FIXED 4
 
 #endif
