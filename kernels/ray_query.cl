@@ -2,10 +2,15 @@
    queries"), one ray per work-item, through the 4-wide BVH that ray_trace.cl reads (shared/bvh.h);
    ray_query_brute tests every triangle in id order instead, the reference the BVH walk must
    equal. Rays and results live in buffers of either layout (shared/ray_query.h). Launched by
-   host/ray_query.cpp, built once per query kind (CLVIS_QUERY) and stack size (CLVIS_RAY_STACK), on
-   PoCL's CPU device with CLVIS_PREFETCH.
+   host/ray/ray_query.cpp, built once per query kind (CLVIS_QUERY) and stack size (CLVIS_RAY_STACK), on
+   PoCL's CPU device with CLVIS_PREFETCH. With CLVIS_INSTANCES (a scene with instances) the walk
+   starts in the top level of the two-level BVH and enters instances as ray_trace.cl does
+   (shared/instance.h: world boxes widened conservatively, world vertices computed on the fly with
+   the expansion's bits), so every answer equals the expansion's; without it the walk is the flat
+   tree's, unchanged.
    No packet assumption: incoherent rays (ambient occlusion, shadows, random) walk on their own. */
 #include "shared/bvh.h"
+#include "shared/instance.h"
 #include "shared/ray.h"
 #include "shared/ray_query.h"
 #include "shared/visibility.h"
@@ -112,24 +117,57 @@ static float query_far(clvis_ray_rec r, const answer* a)
 #endif
 }
 
-static int leaf(__global const clvis_bvh_tri* tris, uint first, uint n, clvis_ray_shear s, clvis_ray_rec r,
-                answer* a)
+/* Tests the n triangles of a leaf from `first`, those of instance xi (none: world-space already). */
+static int leaf(__global const clvis_bvh_tri* tris, uint first, uint n, __global const clvis_instance* xi,
+                clvis_ray_shear s, clvis_ray_rec r, answer* a)
 {
     for (uint k = first; k < first + n; ++k) {
         __global const clvis_bvh_tri* tr = tris + k;
+#ifdef CLVIS_INSTANCES
+        float v[9];
+        uint id = clvis_instance_triangle(tr, xi, v);
+        clvis_vec3 v0 = {v[0], v[1], v[2]}, v1 = {v[3], v[4], v[5]}, v2 = {v[6], v[7], v[8]};
+#else
+        uint id = tr->id;
         clvis_vec3 v0 = {tr->v0_x, tr->v0_y, tr->v0_z}, v1 = {tr->v1_x, tr->v1_y, tr->v1_z};
         clvis_vec3 v2 = {tr->v2_x, tr->v2_y, tr->v2_z};
-        if (test_triangle(s, v0, v1, v2, tr->id, r.tmin, query_far(r, a), a)) return 1;
+#endif
+        if (test_triangle(s, v0, v1, v2, id, r.tmin, query_far(r, a), a)) return 1;
     }
     return 0;
 }
 
+#ifdef CLVIS_INSTANCES
+/* The world boxes of node n's four children in transformed instance xi, as the node stores them:
+   lo x, y, z then hi x, y, z, four lanes each. */
+static void world_boxes(__global const clvis_bvh4_node* n, __global const clvis_instance* xi, float w[24])
+{
+    for (int k = 0; k < 4; ++k) {
+        float lo[3], hi[3];
+        clvis_instance_child_box(n, k, xi, lo, hi);
+        for (int c = 0; c < 3; ++c) {
+            w[4 * c + k] = lo[c];
+            w[12 + 4 * c + k] = hi[c];
+        }
+    }
+}
+#endif
+
 /* clvis_ray_hits_box on the four children of a node at once: the same operations lane by lane. */
-static int4 hits_boxes(__global const clvis_bvh4_node* n, clvis_box_ray br, float near_t, float far_t, float4* entry)
+static int4 hits_boxes(__global const clvis_bvh4_node* n, __global const clvis_instance* xi, clvis_box_ray br,
+                       float near_t, float far_t, float4* entry)
 {
     float4 lox = vload4(0, n->lo_x), hix = vload4(0, n->hi_x);
     float4 loy = vload4(0, n->lo_y), hiy = vload4(0, n->hi_y);
     float4 loz = vload4(0, n->lo_z), hiz = vload4(0, n->hi_z);
+#ifdef CLVIS_INSTANCES
+    if (xi && xi->transformed) {
+        float w[24];
+        world_boxes(n, xi, w);
+        lox = vload4(0, w), loy = vload4(1, w), loz = vload4(2, w);
+        hix = vload4(3, w), hiy = vload4(4, w), hiz = vload4(5, w);
+    }
+#endif
     float4 nx = ((br.neg_x ? hix : lox) - br.origin.x) * br.inv.x;
     float4 ny = ((br.neg_y ? hiy : loy) - br.origin.y) * br.inv.y;
     float4 nz = ((br.neg_z ? hiz : loz) - br.origin.z) * br.inv.z;
@@ -171,9 +209,12 @@ static void clvis_prefetch_child(__global const clvis_bvh4_node* nodes, __global
 
 /* The walk: children that the ray meets are pushed far to near (closest: by entry distance) as
    (node << 2 | slot) with their entry distance, and popped while they may still hold a hit
-   before the nearest so far. */
-static void walk(__global const clvis_bvh4_node* nodes, __global const clvis_bvh_tri* tris, clvis_ray_rec r,
-                 answer* a)
+   before the nearest so far. With CLVIS_INSTANCES each entry also remembers its instance (or the
+   top level), a top-level leaf enters its instances (the first at once, the others pushed as
+   CLVIS_ENTER_INSTANCE entries at the leaf's entry distance), and boxes and triangles of an
+   instance are tested in world space. */
+static void walk(__global const clvis_bvh4_node* nodes, __global const clvis_bvh_tri* tris,
+                 __global const clvis_instance* instances, clvis_ray_rec r, answer* a)
 {
     clvis_vec3 o = {r.ox, r.oy, r.oz}, d = {r.dx, r.dy, r.dz};
     clvis_ray_shear s = clvis_make_shear(o, d);
@@ -182,10 +223,15 @@ static void walk(__global const clvis_bvh4_node* nodes, __global const clvis_bvh
     float enter[CLVIS_RAY_STACK];
     uint sp = 0;
     uint node = 0;
+    __global const clvis_instance* xi = 0; /* instance `inst`; none in the top level and the flat tree */
+#ifdef CLVIS_INSTANCES
+    uint stack_inst[CLVIS_RAY_STACK];
+    uint inst = CLVIS_INST_TOP;
+#endif
     for (;;) {
         __global const clvis_bvh4_node* n = nodes + node;
         float4 e4;
-        int4 hit4 = hits_boxes(n, br, r.tmin, query_far(r, a), &e4);
+        int4 hit4 = hits_boxes(n, xi, br, r.tmin, query_far(r, a), &e4);
         float e[4];
         int h[4];
         vstore4(e4, 0, e);
@@ -205,24 +251,44 @@ static void walk(__global const clvis_bvh4_node* nodes, __global const clvis_bvh
             stack[i] = node << 2 | (uint)k;
             enter[i] = e[k];
         }
+#ifdef CLVIS_INSTANCES
+        for (uint j = first; j < sp; ++j) stack_inst[j] = inst; /* all of this node */
+#endif
         node = CLVIS_BACKGROUND_ID;
         while (sp > 0) {
             uint ref = stack[--sp];
-            if (enter[sp] > query_far(r, a) * CLVIS_IZE_SCALE) continue;
+            float at = enter[sp];
+            if (at > query_far(r, a) * CLVIS_IZE_SCALE) continue;
+#ifdef CLVIS_INSTANCES
+            inst = stack_inst[sp];
+            xi = inst < CLVIS_INST_TOP ? instances + inst : 0;
+            if (ref == CLVIS_ENTER_INSTANCE) {
+                node = xi->root;
+                break;
+            }
+#endif
             __global const clvis_bvh4_node* p = nodes + (ref >> 2);
             uint k = ref & 3u, cnt = p->count[k];
             if (cnt == 0) {
                 node = p->child[k];
                 break;
             }
-            if (leaf(tris, p->child[k], cnt, s, r, a)) return;
+#ifdef CLVIS_INSTANCES
+            if (inst == CLVIS_INST_TOP) {
+                uint pushed = sp;
+                node = clvis_enter_instances(p, (int)k, instances, stack, stack_inst, &sp, &inst, &xi);
+                for (; pushed < sp; ++pushed) enter[pushed] = at;
+                break;
+            }
+#endif
+            if (leaf(tris, p->child[k], cnt, xi, s, r, a)) return;
         }
         if (node == CLVIS_BACKGROUND_ID) return;
     }
 }
 
 __kernel void ray_query(__global const clvis_bvh4_node* nodes, uint node_count, __global const clvis_bvh_tri* tris,
-                        __global const float* rays, int ray_layout, ulong ray_stride, ulong ray_offset, uint count,
+                        __global const clvis_instance* instances, __global const float* rays, int ray_layout, ulong ray_stride, ulong ray_offset, uint count,
                         __global out_t* out, int out_layout, ulong out_stride, ulong out_offset,
                         __global uint* invalid)
 {
@@ -231,7 +297,7 @@ __kernel void ray_query(__global const clvis_bvh4_node* nodes, uint node_count, 
     clvis_ray_rec r = load_ray(rays, ray_layout, ray_stride, ray_offset + i);
     answer a = start_answer(r);
     if (!clvis_ray_valid(r)) atomic_inc(invalid);
-    else if (node_count > 0) walk(nodes, tris, r, &a);
+    else if (node_count > 0) walk(nodes, tris, instances, r, &a);
     store_answer(out, out_layout, out_stride, out_offset + i, a);
 }
 

@@ -156,6 +156,109 @@ TEST_CASE("ray queries on an instanced scene answer as on its expansion", "[devi
     CHECK(std::memcmp(ma.data(), ha.data(), ma.size() * sizeof(HitRecord)) != 0);
 }
 
+namespace {
+
+/// spots() and three instances of a quad side by side far to the right: the first two share the
+/// edge x = 103, the second and the third (mirrored) x = 109, all with the same float bits.
+Scene spots_and_tiles(bool instanced)
+{
+    Scene s = spots(instanced);
+    MeshData quad;
+    quad.name = "tile";
+    quad.positions = {-3, -3, 0, 3, -3, 0, 3, 3, 0, -3, 3, 0};
+    quad.indices = {0, 1, 2, 0, 2, 3};
+    std::size_t p = instanced ? s.add_prototype(quad) : 0;
+    for (const Mat4& t : {placed(0, 0, {100, 0, -5}, {1, 1, 1}), placed(0, 0, {106, 0, -5}, {1, 1, 1}),
+                          placed(0, 0, {112, 0, -5}, {-1, 1, 1})})
+        instanced ? s.add_instance(p, t) : s.add_mesh(quad, t);
+    return s;
+}
+
+/// Rays from the eye, from inside the spot instances (mirrored ones too), and straight down
+/// through the tiles' shared edges (first 200) and their inner diagonals.
+std::vector<RayRecord> probe_rays()
+{
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1, 1);
+    std::vector<RayRecord> rays;
+    for (int i = 0; i < 100; ++i) {
+        float y = u(rng) * 2.9f;
+        rays.push_back({103, y, 0, 0, 0, 0, -1, 100});
+        rays.push_back({109, y, 0, 0, 0, 0, -1, 100});
+    }
+    for (int i = 0; i < 200; ++i) {
+        float x = u(rng) * 2.9f;
+        rays.push_back({100 + x, x, 0, 0, 0, 0, -1, 100});     // the diagonal of the first tile
+        rays.push_back({112 - x, x, 0, 0, 0.1f, 0, -1, 100}); // near the mirrored one's, slanted
+    }
+    const float inside[4][3] = {{-0.9f, 0, -3}, {0.8f, 0.2f, -3.5f}, {0.1f, -0.6f, -2.5f}, {0.6f, 0.7f, -0.2f}};
+    for (int i = 0; i < 2000; ++i) {
+        const float* o = inside[i % 4];
+        rays.push_back({o[0], o[1], o[2], i % 3 == 0 ? 0.05f : 0.0f, u(rng), u(rng), u(rng), i % 5 == 0 ? 0.4f : 100});
+    }
+    for (int i = 0; i < 2000; ++i) rays.push_back({u(rng) * 0.3f, u(rng) * 0.3f, 0.5f, 0, u(rng), u(rng), -1, 100});
+    return rays;
+}
+
+/// Closest (records and SoA), any and count answers of `q` for `rays`, as bytes.
+std::vector<unsigned char> answers(RayQuery& q, const std::vector<RayRecord>& rays)
+{
+    std::size_t n = rays.size();
+    std::vector<HitRecord> hits(n);
+    q.closest({rays.data(), n}, hits.data());
+    std::vector<float> f[8];
+    for (std::size_t i = 0; i < n; ++i) {
+        const float* r = &rays[i].ox;
+        for (int k = 0; k < 8; ++k) f[k].push_back(r[k]);
+    }
+    RaySoA soa{f[0].data(), f[1].data(), f[2].data(), f[3].data(), f[4].data(), f[5].data(), f[6].data(), f[7].data()};
+    std::vector<float> t(n), hu(n), hv(n);
+    std::vector<std::uint32_t> id(n), counts(n);
+    q.closest({soa, n}, HitSoA{t.data(), id.data(), hu.data(), hv.data()});
+    std::vector<std::uint8_t> flags(n);
+    q.occluded({rays.data(), n}, flags.data());
+    q.count({rays.data(), n}, counts.data());
+    std::vector<unsigned char> out;
+    auto add = [&](const void* p, std::size_t bytes) {
+        out.insert(out.end(), static_cast<const unsigned char*>(p), static_cast<const unsigned char*>(p) + bytes);
+    };
+    add(hits.data(), n * sizeof(HitRecord));
+    for (const auto* v : {&t, &hu, &hv}) add(v->data(), n * 4);
+    add(id.data(), n * 4);
+    add(flags.data(), n);
+    add(counts.data(), n * 4);
+    return out;
+}
+
+} // namespace
+
+TEST_CASE("queries walk the instances' two levels and equal the expansion's bits", "[device][instances]")
+{
+    Device device = Device::open();
+    Scene a = spots_and_tiles(true), b = spots_and_tiles(false);
+    Renderer ra(device, a), rb(device, b);
+    RayQuery qa(ra), qb(rb);
+    std::uint64_t bytes = ra.bvh_stats().device_bytes;
+    std::vector<RayRecord> rays = probe_rays();
+    std::vector<unsigned char> got = answers(qa, rays), want = answers(qb, rays);
+    REQUIRE(got.size() == want.size());
+    CHECK(std::memcmp(got.data(), want.data(), got.size()) == 0);
+    std::size_t n = rays.size();
+    std::vector<std::uint32_t> counts(n);
+    std::memcpy(counts.data(), got.data() + got.size() - 4 * n, 4 * n);
+    std::size_t several = 0, hit = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (i < 200) CHECK(counts[i] == 1); // a shared edge of two instances counts once
+        several += counts[i] > 1;
+        hit += counts[i] > 0;
+    }
+    CHECK(several > 100); // rays from inside a spot leave it, and some cross others
+    CHECK(hit > n / 2);
+    // No flat tree of the expansion: the BVH's device bytes are those of the two levels.
+    CHECK(ra.bvh_stats().device_bytes == bytes);
+    CHECK(bytes < 48 * a.triangle_count());
+}
+
 TEST_CASE("moving an instance rebuilds the top level, not its prototype's tree", "[device][instances]")
 {
     Device device = Device::open();

@@ -165,6 +165,18 @@ TEST_CASE("the ray query kernels run clean on Oclgrind and match PoCL", "[.oclgr
 {
     Scene scene;
     scene.add_mesh(make_uv_sphere(40));
+    // The same sphere as a prototype beside a plain copy: three instances, one mirrored (the
+    // two-level walk, CLVIS_INSTANCES).
+    Scene instanced = scene;
+    std::size_t p = instanced.add_prototype(scene.data_of(0));
+    for (double s : {0.5, -0.7, 0.9}) {
+        Mat4 t;
+        t(0, 0) = s;
+        t(1, 1) = std::fabs(s);
+        t(2, 2) = 0.8;
+        t(0, 3) = 0.2 * s;
+        instanced.add_instance(p, t);
+    }
     std::vector<RayRecord> rays;
     for (int i = 0; i < 150; ++i) {
         float a = 0.37f * float(i), z = float(i % 7) - 3.0f;
@@ -175,10 +187,12 @@ TEST_CASE("the ray query kernels run clean on Oclgrind and match PoCL", "[.oclgr
     rays.push_back(RayRecord{std::nanf(""), 0, 0, 0, 1, 0, 0, 2});                                 // NaN
     rays.push_back(RayRecord{0, 0, 0, 0, 0, 1, 0, std::numeric_limits<float>::infinity()});         // from inside
     Device pocl = Device::open("portable computing language");
-    for (bool brute : {false, true}) {
-        INFO((brute ? "brute force" : "BVH"));
-        Renderer on_grind(Device::open("oclgrind"), scene), on_pocl(pocl, scene);
-        CHECK(query_all(on_grind, rays, brute) == query_all(on_pocl, rays, brute));
+    for (const Scene* s : {&scene, &instanced}) {
+        for (bool brute : {false, true}) {
+            INFO((s == &scene ? "plain, " : "instanced, ") << (brute ? "brute force" : "BVH"));
+            Renderer on_grind(Device::open("oclgrind"), *s), on_pocl(pocl, *s);
+            CHECK(query_all(on_grind, rays, brute) == query_all(on_pocl, rays, brute));
+        }
     }
 }
 

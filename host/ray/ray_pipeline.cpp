@@ -52,14 +52,14 @@ struct RayPipeline::Impl {
     cl::Kernel trace, trace_views, brute;
     cl::NDRange trace_group, views_group, brute_group; ///< work-items per work-group
     int trace_stack = 0;                  ///< CLVIS_RAY_STACK of the built trace kernel
-    Bvh bvh;   ///< the binary tree, kept for refits (flat: a scene without instances, or queries)
+    Bvh bvh;   ///< the binary tree, kept for refits (flat: a scene without instances)
     Bvh4 wide; ///< what the kernel reads
     bool built = false;
     cl::Buffer nodes, tris;
     BvhStats stats;
-    /// A scene with instances: the two-level BVH (bvh_instances.hpp) in levels_*; the flat one
-    /// above is built from the expansion only for the ray queries (prepare_queries).
-    bool two_level = false, flat_current = false;
+    /// A scene with instances: the two-level BVH (bvh_instances.hpp) in levels_*, read by the
+    /// trace and the ray queries alike (no flat tree of the expansion is built).
+    bool two_level = false;
     InstanceBvh levels;
     cl::Buffer level_nodes, level_tris, instances;
 
@@ -175,7 +175,6 @@ struct RayPipeline::Impl {
         bvh = build_bvh(scene.world_positions().data(), scene.world_indices().data(), scene.triangle_count(),
                         build_options());
         wide = collapse_bvh4(bvh);
-        flat_current = true;
         upload(queue, false);
     }
 
@@ -185,7 +184,6 @@ struct RayPipeline::Impl {
         auto t0 = std::chrono::steady_clock::now();
         two_level = false;
         for (const Scene::Mesh& m : scene.meshes()) two_level |= m.prototype != Scene::no_prototype;
-        flat_current = false;
         if (two_level) {
             levels.update(scene, build_options());
             fill_stats(ms_since(t0), levels.plain_refitted());
@@ -229,19 +227,18 @@ void RayPipeline::update(const Scene& scene, cl::CommandQueue& queue)
     m.upload(queue, false);
 }
 
-void RayPipeline::prepare_queries(const Scene& scene, cl::CommandQueue& queue)
-{
-    Impl& m = *impl_;
-    if (m.two_level && !m.flat_current) m.build_flat(scene, queue);
-}
-
 bool RayPipeline::built() const { return impl_->built; }
 
 const BvhStats& RayPipeline::stats() const { return impl_->stats; }
-const cl::Buffer& RayPipeline::nodes() const { return impl_->nodes; }
-const cl::Buffer& RayPipeline::triangles() const { return impl_->tris; }
-std::uint32_t RayPipeline::node_count() const { return std::uint32_t(impl_->wide.nodes.size()); }
-int RayPipeline::wide_depth() const { return impl_->wide.depth; }
+const cl::Buffer& RayPipeline::nodes() const { return impl_->two_level ? impl_->level_nodes : impl_->nodes; }
+const cl::Buffer& RayPipeline::triangles() const { return impl_->two_level ? impl_->level_tris : impl_->tris; }
+std::uint32_t RayPipeline::node_count() const
+{
+    return std::uint32_t(impl_->two_level ? impl_->levels.nodes().size() : impl_->wide.nodes.size());
+}
+const cl::Buffer& RayPipeline::instances() const { return impl_->instances; }
+bool RayPipeline::two_level() const { return impl_->two_level; }
+int RayPipeline::stack_entries() const { return impl_->two_level ? impl_->levels.stack_entries() : 3 * impl_->wide.depth + 1; }
 
 void RayPipeline::render(const DeviceScene& scene, Frame& frame, bool brute)
 {

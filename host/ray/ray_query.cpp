@@ -95,16 +95,19 @@ bool prefetches(const cl::Device& device)
 
 cl::Kernel& RayQuery::Impl::kernel(RayQueryKind kind)
 {
-    int depth = options.brute ? 0 : r.ray->wide_depth();
-    int stack = ((3 * depth + 1) / stack_step + 1) * stack_step;
+    int entries = options.brute ? 1 : r.ray->stack_entries();
+    int stack = (entries / stack_step + 1) * stack_step;
+    bool two_level = !options.brute && r.ray->two_level();
     Built& b = built[int(kind)];
-    if (b.stack != stack) {
+    if (b.stack != stack || b.two_level != two_level) {
         std::string defs = "-DCLVIS_QUERY=" + std::to_string(int(kind)) + " -DCLVIS_RAY_STACK=" + std::to_string(stack);
         if (!options.brute && prefetches(r.dev().device)) defs += " -DCLVIS_PREFETCH=1";
+        if (two_level) defs += " -DCLVIS_INSTANCES=1";
         b.kernel = cl::Kernel(r.dev().program("ray_query", defs), options.brute ? "ray_query_brute" : "ray_query");
         std::size_t max_group = b.kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(r.dev().device);
         b.group = std::max<std::size_t>(1, std::min(group_items, max_group));
         b.stack = stack;
+        b.two_level = two_level;
     }
     return b.kernel;
 }
@@ -169,6 +172,7 @@ void RayQuery::Impl::batch(RayQueryKind kind, const Source& src, const Sink& dst
         k.setArg(a++, r.ray->nodes());
         k.setArg(a++, cl_uint(r.ray->node_count()));
         k.setArg(a++, r.ray->triangles());
+        k.setArg(a++, r.ray->instances());
     }
     k.setArg(a++, rays);
     k.setArg(a++, ray_layout);
@@ -207,7 +211,7 @@ RayQueryStats RayQuery::Impl::run(RayQueryKind kind, const Source& src, const Si
     stats.rays = n;
     if (n == 0) return stats;
     error_boundary(std::string("answering a ray query (") + to_string(kind) + ")", [&] {
-        if (!options.brute) r.ray_pipeline(true).prepare_queries(r.scene, r.queue);
+        if (!options.brute) r.ray_pipeline(true);
         reserve(std::min(n, options.batch_rays));
         for (std::size_t first = 0; first < n; first += capacity)
             batch(kind, src, dst, first, std::min(capacity, n - first), stats);

@@ -17,6 +17,7 @@ struct RayQuery::Impl {
         cl::Kernel kernel;
         std::size_t group = 1; ///< work-items per work-group
         int stack = -1;        ///< CLVIS_RAY_STACK it was built with
+        bool two_level = false; ///< built with CLVIS_INSTANCES
     };
     Built built[3];
     cl::Kernel generate_ao, generate_shadow;

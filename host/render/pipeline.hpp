@@ -123,9 +123,6 @@ public:
     /// Follows changed positions: refit or rebuild as options.bvh.update says; with instances,
     /// only the plain meshes' tree and the top level change.
     void update(const Scene& scene, cl::CommandQueue& queue);
-    /// Makes nodes() and triangles() current for the ray queries: a scene with instances gets a
-    /// flat BVH of its expansion (ray_query.cl walks one tree).
-    void prepare_queries(const Scene& scene, cl::CommandQueue& queue);
     bool built() const;
     const BvhStats& stats() const;
     /// Enqueues the trace of one ray per pixel centre (through the BVH, or against every
@@ -135,11 +132,15 @@ public:
     void render_views(ViewsFrame& frame);
 
     /// The resident BVH as ray_trace.cl reads it, for the ray queries (ray_query.cpp): 4-wide
-    /// nodes, leaf triangles, the node count and the 4-wide tree's depth. Valid once built.
+    /// nodes, leaf triangles, the node count, the instances (empty without them), whether it has
+    /// two levels (a scene with instances: ray_query.cl's CLVIS_INSTANCES) and the stack entries a
+    /// walk needs. Valid once built.
     const cl::Buffer& nodes() const;
     const cl::Buffer& triangles() const;
     std::uint32_t node_count() const;
-    int wide_depth() const;
+    const cl::Buffer& instances() const;
+    bool two_level() const;
+    int stack_entries() const;
 
     struct Impl;
 
