@@ -127,12 +127,12 @@ static int leaf(__global const clvis_bvh_tri* tris, uint first, uint n, __global
         float v[9];
         uint id = clvis_instance_triangle(tr, xi, v);
         clvis_vec3 v0 = {v[0], v[1], v[2]}, v1 = {v[3], v[4], v[5]}, v2 = {v[6], v[7], v[8]};
+        if (test_triangle(s, v0, v1, v2, id, r.tmin, query_far(r, a), a)) return 1;
 #else
-        uint id = tr->id;
         clvis_vec3 v0 = {tr->v0_x, tr->v0_y, tr->v0_z}, v1 = {tr->v1_x, tr->v1_y, tr->v1_z};
         clvis_vec3 v2 = {tr->v2_x, tr->v2_y, tr->v2_z};
+        if (test_triangle(s, v0, v1, v2, tr->id, r.tmin, query_far(r, a), a)) return 1;
 #endif
-        if (test_triangle(s, v0, v1, v2, id, r.tmin, query_far(r, a), a)) return 1;
     }
     return 0;
 }
@@ -257,8 +257,7 @@ static void walk(__global const clvis_bvh4_node* nodes, __global const clvis_bvh
         node = CLVIS_BACKGROUND_ID;
         while (sp > 0) {
             uint ref = stack[--sp];
-            float at = enter[sp];
-            if (at > query_far(r, a) * CLVIS_IZE_SCALE) continue;
+            if (enter[sp] > query_far(r, a) * CLVIS_IZE_SCALE) continue;
 #ifdef CLVIS_INSTANCES
             inst = stack_inst[sp];
             xi = inst < CLVIS_INST_TOP ? instances + inst : 0;
@@ -276,6 +275,7 @@ static void walk(__global const clvis_bvh4_node* nodes, __global const clvis_bvh
 #ifdef CLVIS_INSTANCES
             if (inst == CLVIS_INST_TOP) {
                 uint pushed = sp;
+                float at = enter[sp]; /* the leaf's entry distance */
                 node = clvis_enter_instances(p, (int)k, instances, stack, stack_inst, &sp, &inst, &xi);
                 for (; pushed < sp; ++pushed) enter[pushed] = at;
                 break;
@@ -287,8 +287,12 @@ static void walk(__global const clvis_bvh4_node* nodes, __global const clvis_bvh
     }
 }
 
+/* `instances` only with CLVIS_INSTANCES: the flat build's arguments (and code) are as before. */
 __kernel void ray_query(__global const clvis_bvh4_node* nodes, uint node_count, __global const clvis_bvh_tri* tris,
-                        __global const clvis_instance* instances, __global const float* rays, int ray_layout, ulong ray_stride, ulong ray_offset, uint count,
+#ifdef CLVIS_INSTANCES
+                        __global const clvis_instance* instances,
+#endif
+                        __global const float* rays, int ray_layout, ulong ray_stride, ulong ray_offset, uint count,
                         __global out_t* out, int out_layout, ulong out_stride, ulong out_offset,
                         __global uint* invalid)
 {
@@ -297,7 +301,11 @@ __kernel void ray_query(__global const clvis_bvh4_node* nodes, uint node_count, 
     clvis_ray_rec r = load_ray(rays, ray_layout, ray_stride, ray_offset + i);
     answer a = start_answer(r);
     if (!clvis_ray_valid(r)) atomic_inc(invalid);
+#ifdef CLVIS_INSTANCES
     else if (node_count > 0) walk(nodes, tris, instances, r, &a);
+#else
+    else if (node_count > 0) walk(nodes, tris, 0, r, &a);
+#endif
     store_answer(out, out_layout, out_stride, out_offset + i, a);
 }
 

@@ -172,7 +172,7 @@ void RayQuery::Impl::batch(RayQueryKind kind, const Source& src, const Sink& dst
         k.setArg(a++, r.ray->nodes());
         k.setArg(a++, cl_uint(r.ray->node_count()));
         k.setArg(a++, r.ray->triangles());
-        k.setArg(a++, r.ray->instances());
+        if (built[int(kind)].two_level) k.setArg(a++, r.ray->instances());
     }
     k.setArg(a++, rays);
     k.setArg(a++, ray_layout);
