@@ -22,6 +22,23 @@ using test::triangle;
 
 using test::Case;
 
+/// `mesh` as a plain mesh, then as a prototype with three instances (one mirrored).
+Scene plain_and_instanced(const MeshData& mesh)
+{
+    Scene s;
+    s.add_mesh(mesh);
+    std::size_t p = s.add_prototype(mesh);
+    for (double k : {0.5, -0.7, 0.9}) {
+        Mat4 t;
+        t(0, 0) = k;
+        t(1, 1) = std::fabs(k);
+        t(2, 2) = 0.8;
+        t(0, 3) = 0.2 * k;
+        s.add_instance(p, t);
+    }
+    return s;
+}
+
 std::vector<Case> cases()
 {
     std::vector<Case> out;
@@ -165,18 +182,8 @@ TEST_CASE("the ray query kernels run clean on Oclgrind and match PoCL", "[.oclgr
 {
     Scene scene;
     scene.add_mesh(make_uv_sphere(40));
-    // The same sphere as a prototype beside a plain copy: three instances, one mirrored (the
-    // two-level walk, CLVIS_INSTANCES).
-    Scene instanced = scene;
-    std::size_t p = instanced.add_prototype(scene.data_of(0));
-    for (double s : {0.5, -0.7, 0.9}) {
-        Mat4 t;
-        t(0, 0) = s;
-        t(1, 1) = std::fabs(s);
-        t(2, 2) = 0.8;
-        t(0, 3) = 0.2 * s;
-        instanced.add_instance(p, t);
-    }
+    // The same sphere also as a prototype: three instances, one mirrored (CLVIS_INSTANCES).
+    Scene instanced = plain_and_instanced(scene.data_of(0));
     std::vector<RayRecord> rays;
     for (int i = 0; i < 150; ++i) {
         float a = 0.37f * float(i), z = float(i % 7) - 3.0f;
@@ -268,18 +275,7 @@ TEST_CASE("the two-level walk of instances runs clean on Oclgrind in both covera
     // The first case's mesh as a prototype: a plain copy, then three instances (one mirrored).
     Device pocl = Device::open("portable computing language");
     Case c = std::move(cases().front());
-    Case inst{c.name + " instanced", Scene{}, c.camera, c.width, c.height};
-    MeshData m = c.scene.data_of(0);
-    inst.scene.add_mesh(m);
-    std::size_t p = inst.scene.add_prototype(m);
-    for (double s : {0.5, -0.7, 0.9}) {
-        Mat4 t;
-        t(0, 0) = s;
-        t(1, 1) = std::fabs(s);
-        t(2, 2) = 0.8;
-        t(0, 3) = 0.2 * s;
-        inst.scene.add_instance(p, t);
-    }
+    Case inst{c.name + " instanced", plain_and_instanced(c.scene.data_of(0)), c.camera, c.width, c.height};
     for (Coverage coverage : {Coverage::Watertight, Coverage::RasterRule}) {
         RenderOptions o;
         o.coverage = coverage;
