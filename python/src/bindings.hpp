@@ -43,7 +43,6 @@ struct PyRenderer {
     Lock lock;
     std::uint32_t triangles = 0;
     std::unique_ptr<RayQuery> query;
-    int samples = 1; ///< per pixel (the samples= keyword): render() makes (H, W, samples) arrays when > 1
     /// The arrays of the last render() that made its own: reused by the next render of that
     /// size once nothing else refers to them (the caller dropped that result), so that a loop of
     /// renders allocates no host memory. Touched with the GIL held only.
@@ -51,7 +50,7 @@ struct PyRenderer {
         nb::object ids, depth;
         std::uint32_t* ids_data = nullptr;
         float* depth_data = nullptr;
-        int width = 0, height = 0, samples = 1;
+        int width = 0, height = 0; ///< samples per pixel are the renderer's, fixed at construction
     } spare;
 };
 

@@ -150,8 +150,7 @@ namespace {
 bool take_spare(PyRenderer& r, PyVisibility& vis, int width, int height, ReadTarget& target)
 {
     PyRenderer::Spare& s = r.spare;
-    if (!s.ids.is_valid() || s.width != width || s.height != height || s.samples != r.samples ||
-        Py_REFCNT(s.ids.ptr()) != 1 ||
+    if (!s.ids.is_valid() || s.width != width || s.height != height || Py_REFCNT(s.ids.ptr()) != 1 ||
         Py_REFCNT(s.depth.ptr()) != 1)
         return false;
     vis.ids_out = std::move(s.ids);
@@ -163,7 +162,7 @@ bool take_spare(PyRenderer& r, PyVisibility& vis, int width, int height, ReadTar
 /// Keeps the arrays render() made for `vis` as the renderer's spare.
 void keep_spare(PyRenderer& r, const PyVisibility& vis, int width, int height, const ReadTarget& target)
 {
-    r.spare = PyRenderer::Spare{vis.ids_out, vis.depth_out, target.ids, target.depth, width, height, r.samples};
+    r.spare = PyRenderer::Spare{vis.ids_out, vis.depth_out, target.ids, target.depth, width, height};
 }
 
 /// Renders (all of the image or `region`) and reads back once, into the Visibility's own arrays
@@ -179,8 +178,9 @@ nb::object render(PyRenderer& r, const Camera& camera, int width, int height, co
     vis.camera = camera;
     if (!region.is_none()) vis.region = region_of(region);
     const int w = vis.region ? vis.region->width : width, h = vis.region ? vis.region->height : height;
+    const int samples = r.renderer.options().samples; // fixed at construction: no lock needed
     ReadTarget target;
-    if (!out.is_none() || !take_spare(r, vis, w, h, target)) target = read_target(vis, out, w, h, r.samples);
+    if (!out.is_none() || !take_spare(r, vis, w, h, target)) target = read_target(vis, out, w, h, samples);
     unlocked(r.lock, [&] {
         timed(vis, [&] {
             if (vis.region) {
@@ -196,7 +196,7 @@ nb::object render(PyRenderer& r, const Camera& camera, int width, int height, co
     if (out.is_none()) keep_spare(r, vis, w, h, target);
     vis.host->width = w;
     vis.host->height = h;
-    vis.host->samples = r.samples;
+    vis.host->samples = samples;
     return result;
 }
 
@@ -327,7 +327,7 @@ void bind_render(nb::module_& m)
             render_options(tile, cull, leaf_size, sah_bins, bvh_update, raster_atomics, coverage, samples);
         unlocked(scene.lock, [&] {
             const auto triangles = std::uint32_t(scene.scene.triangle_count());
-            new (self) PyRenderer{Renderer(device, scene.scene, o), {}, triangles, nullptr, samples, {}};
+            new (self) PyRenderer{Renderer(device, scene.scene, o), {}, triangles, nullptr, {}};
         });
     };
     std::apply([&](auto... options) { r.def("__init__", init, nb::arg("device"), nb::arg("scene"), options...); },
