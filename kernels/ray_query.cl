@@ -79,14 +79,10 @@ static int test_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_ve
 {
     float t;
 #if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
-    /* clvis_intersect_triangle_uv's operations, each division only once the hit needs it: a ray
-       outside the triangle pays none, one farther than the nearest hit pays no barycentrics. */
-    clvis_tri_2d p = clvis_project_triangle(s, a, b, c);
-    int inside = (p.u >= 0.0f && p.v >= 0.0f && p.w >= 0.0f) || (p.u <= 0.0f && p.v <= 0.0f && p.w <= 0.0f);
-    float det = p.u + p.v + p.w;
-    if (!inside || det == 0.0f) return 0;
-    t = clvis_triangle_t(s, p, det);
-    if (!(t >= tmin && t <= tmax)) return 0;
+    /* A ray outside the triangle pays no division, one farther than the nearest hit no barycentrics. */
+    clvis_tri_2d p;
+    float det;
+    if (!clvis_intersect_triangle_plane(s, a, b, c, tmin, tmax, &t, &p, &det)) return 0;
     t = t + 0.0f; /* -0 becomes +0: the key orders by bits */
     if (t < ans->t || (t == ans->t && id < ans->id)) {
         ans->t = t;

@@ -193,19 +193,19 @@ static inline int clvis_intersect_triangle(clvis_ray_shear s, clvis_vec3 a, clvi
     return inside && det != 0.0f && tt >= near_t && tt <= far_t && clvis_cull_keeps(cull, det > 0.0f, det < 0.0f);
 }
 
-/* The same test (no culling) also giving the barycentrics of the hit (CONVENTIONS.md: the weights of b and
-   c, the hit point (1 - u - v) a + u b + v c). */
-static inline int clvis_intersect_triangle_uv(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
-                                              float near_t, float far_t, float* t, float* bu, float* bv)
+/* The same test (no culling), dividing only for a ray inside the triangle, and leaving the
+   projected triangle and its determinant in *p and *det: the barycentrics of a hit (CONVENTIONS.md:
+   the weights of b and c, the hit point (1 - u - v) a + u b + v c) are p->v / det and p->w / det,
+   which a caller computes only for a hit it keeps. */
+static inline int clvis_intersect_triangle_plane(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
+                                                 float near_t, float far_t, float* t, clvis_tri_2d* p, float* det)
 {
-    clvis_tri_2d p = clvis_project_triangle(s, a, b, c);
-    int inside = (p.u >= 0.0f && p.v >= 0.0f && p.w >= 0.0f) || (p.u <= 0.0f && p.v <= 0.0f && p.w <= 0.0f);
-    float det = p.u + p.v + p.w;
-    float tt = clvis_triangle_t(s, p, det);
-    *t = tt;
-    *bu = p.v / det;
-    *bv = p.w / det;
-    return inside && det != 0.0f && tt >= near_t && tt <= far_t;
+    *p = clvis_project_triangle(s, a, b, c);
+    int inside = (p->u >= 0.0f && p->v >= 0.0f && p->w >= 0.0f) || (p->u <= 0.0f && p->v <= 0.0f && p->w <= 0.0f);
+    *det = p->u + p->v + p->w;
+    if (!inside || *det == 0.0f) return 0;
+    *t = clvis_triangle_t(s, *p, *det);
+    return *t >= near_t && *t <= far_t;
 }
 
 /* The side of edge p->q on which the ray lies, as -1, 0 or +1, with an edge function e that is
