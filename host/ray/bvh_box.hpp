@@ -5,6 +5,7 @@
 #include "shared/bvh.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <limits>
 
 namespace clvis::detail {
@@ -41,6 +42,46 @@ struct Box {
         if (empty()) return 0;
         double dx = double(hi[0]) - lo[0], dy = double(hi[1]) - lo[1], dz = double(hi[2]) - lo[2];
         return dx * dy + dy * dz + dz * dx;
+    }
+};
+
+// Four floats in one SSE register (GCC/Clang vector extensions, so other targets get plain code):
+// the build handles a box's three axes at once. Lane 3 is unused.
+typedef float v4f __attribute__((vector_size(16)));
+typedef std::int32_t v4i __attribute__((vector_size(16)));
+typedef double v4d __attribute__((vector_size(32)));
+
+/// std::min(cur, x) and std::max(cur, x) lane by lane, with the same operands and the same
+/// comparison (so the same bits, signed zeros included) as Box::grow.
+inline v4f vmin(v4f cur, v4f x) { return x < cur ? x : cur; }
+inline v4f vmax(v4f cur, v4f x) { return cur < x ? x : cur; }
+
+/// A box as two registers; none() has lo = +inf, hi = -inf.
+struct VBox {
+    v4f lo, hi;
+    static VBox none()
+    {
+        constexpr float inf = std::numeric_limits<float>::infinity();
+        return {v4f{inf, inf, inf, inf}, v4f{-inf, -inf, -inf, -inf}};
+    }
+    void grow(const VBox& b)
+    {
+        lo = vmin(lo, b.lo);
+        hi = vmax(hi, b.hi);
+    }
+    void grow(v4f p)
+    {
+        lo = vmin(lo, p);
+        hi = vmax(hi, p);
+    }
+    Box box() const { return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}; }
+    /// Box::half_area() of a box that is not empty, with the same operations in the same order.
+    double half_area() const
+    {
+        v4d d = __builtin_convertvector(hi, v4d) - __builtin_convertvector(lo, v4d);
+        v4d next = __builtin_shufflevector(d, d, 1, 2, 0, 3);
+        v4d products = d * next; // dx dy, dy dz, dz dx
+        return (products[0] + products[1]) + products[2];
     }
 };
 

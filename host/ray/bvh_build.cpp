@@ -1,8 +1,10 @@
 // Binned SAH BVH build (Wald, "On fast construction of SAH-based bounding volume hierarchies",
 // 2007). Near the root the binning of a node is spread over the threads and its two children are
 // built on separate threads, each into its own depth-first array, then spliced in order; splits
-// depend only on the triangles (bins merge exactly), so the result does not depend on the threads. Where the SAH cannot split (every centroid in one point) or the tree
-// grows too deep, an object median split takes over, so degenerate scenes terminate quickly.
+// depend only on the triangles (bins merge exactly), so the result does not depend on the
+// threads. Where the SAH cannot split (every centroid in one point) or the tree grows too deep,
+// an object median split takes over, so degenerate scenes terminate quickly. Boxes, centroids and
+// bins are handled three axes at a time in SSE-sized vectors, with the scalar operations' order.
 #include "ray/bvh_build.hpp"
 
 #include "ray/bvh_box.hpp"
@@ -10,6 +12,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <thread>
 
@@ -19,13 +22,28 @@ namespace {
 
 constexpr float inf = std::numeric_limits<float>::infinity();
 
-/// One triangle as the build sees it: its box, its centroid (the box's centre) and its id. The
-/// build reorders these themselves (not indices to them), so every pass reads memory in order.
+/// One triangle as the build sees it, 32 bytes: its box, with its id in the bits of lane 3 of lo
+/// (masked off before any arithmetic; hi's lane 3 is 0). The build reorders these themselves (not
+/// indices to them), so every pass reads memory in order.
 struct Prim {
-    Box box;
-    float c[3];
-    std::uint32_t id;
+    v4f lo, hi;
+
+    std::uint32_t id() const
+    {
+        v4i bits = reinterpret_cast<v4i>(lo);
+        return std::uint32_t(bits[3]);
+    }
+    /// The box, lane 3 of both corners 0.
+    VBox box() const
+    {
+        v4i bits = reinterpret_cast<v4i>(lo) & v4i{-1, -1, -1, 0};
+        return {reinterpret_cast<v4f>(bits), hi};
+    }
 };
+
+/// The centroid of a box: the centre, halves first (the sum of two huge finite coordinates
+/// would overflow).
+inline v4f centroid(const VBox& b) { return b.lo * 0.5f + b.hi * 0.5f; }
 
 /// A range of the id array with its bounds and its centroids' bounds.
 struct Range {
@@ -39,14 +57,14 @@ constexpr int max_bins = 256;
 /// Per-axis bins; only the first `bins` of each axis are set up and used (a node's split must not
 /// pay for clearing all max_bins).
 struct Bins {
-    Box box[3][max_bins];
+    VBox box[3][max_bins];
     std::uint32_t count[3][max_bins];
 
     explicit Bins(int bins)
     {
         for (int a = 0; a < 3; ++a)
             for (int k = 0; k < bins; ++k) {
-                box[a][k] = Box::none();
+                box[a][k] = VBox::none();
                 count[a][k] = 0;
             }
     }
@@ -64,23 +82,31 @@ struct Bins {
 /// (finite even for huge coordinates, at most FLT_MAX for tiny ones), and an overflowing product
 /// (+inf) clamps to the last bin; no NaN can arise.
 struct BinMap {
-    float lo[3], scale[3];
     bool valid[3];
     int bins;
+    v4f lo, scale, last; ///< in lanes 0-2: the centroids' lower corner, bins per unit, bins - 1
 
     BinMap(const Box& cbox, int bins_) : bins(bins_)
     {
+        float s[3];
         for (int a = 0; a < 3; ++a) {
             double extent = double(cbox.hi[a]) - double(cbox.lo[a]);
-            lo[a] = cbox.lo[a];
             valid[a] = extent > 0;
-            scale[a] = valid[a] ? float(std::min<double>(bins * (1 - 1e-6) / extent, FLT_MAX)) : 0.0f;
+            s[a] = valid[a] ? float(std::min<double>(bins * (1 - 1e-6) / extent, FLT_MAX)) : 0.0f;
         }
+        lo = v4f{cbox.lo[0], cbox.lo[1], cbox.lo[2], 0.0f};
+        scale = v4f{s[0], s[1], s[2], 0.0f};
+        float l = float(bins - 1);
+        last = v4f{l, l, l, l};
     }
-    int bin(int axis, float c) const
+    /// The bins of centroid c on the three axes: (c - lo) * scale clamped to [0, bins - 1].
+    v4i bins3(v4f c) const
     {
-        float k = (c - lo[axis]) * scale[axis];
-        return int(std::min(std::max(k, 0.0f), float(bins - 1)));
+        v4f k = (c - lo) * scale;
+        v4f zero{0.0f, 0.0f, 0.0f, 0.0f};
+        k = k < zero ? zero : k; // std::max(k, 0.0f)
+        k = last < k ? last : k; // std::min(k, bins - 1)
+        return __builtin_convertvector(k, v4i);
     }
 };
 
@@ -170,14 +196,15 @@ public:
         for (int a = 0; a < 3; ++a) {
             if (!map.valid[a]) continue;
             double right_cost[max_bins];
-            Box acc = Box::none();
+            VBox acc = VBox::none();
             std::uint32_t cnt = 0;
+            // A side that holds no centroid has an empty box and costs 0; any other box is not empty.
             for (int k = bins - 1; k > 0; --k) {
                 acc.grow(binned.box[a][k]);
                 cnt += binned.count[a][k];
-                right_cost[k] = acc.half_area() * cnt;
+                right_cost[k] = cnt ? acc.half_area() * cnt : 0.0;
             }
-            acc = Box::none();
+            acc = VBox::none();
             cnt = 0;
             for (int k = 0; k < bins - 1; ++k) {
                 acc.grow(binned.box[a][k]);
@@ -222,12 +249,12 @@ private:
         int bins = map.bins;
         auto bin_part = [&](std::uint32_t b, std::uint32_t e, Bins& out) {
             for (std::uint32_t i = b; i < e; ++i) {
-                const Prim& p = prims_[i];
+                VBox box = prims_[i].box();
+                v4i k = map.bins3(centroid(box));
                 for (int a = 0; a < 3; ++a) {
                     if (!map.valid[a]) continue;
-                    int k = map.bin(a, p.c[a]);
-                    out.box[a][k].grow(p.box);
-                    ++out.count[a][k];
+                    out.box[a][k[a]].grow(box);
+                    ++out.count[a][k[a]];
                 }
             }
         };
@@ -254,32 +281,37 @@ private:
     {
         out.begin = b;
         out.end = e;
-        out.box = Box::none();
-        out.cbox = Box::none();
+        VBox box = VBox::none(), cbox = VBox::none();
         for (std::uint32_t i = b; i < e; ++i) {
-            const Prim& p = prims_[i];
-            out.box.grow(p.box);
-            out.cbox.grow(p.c);
+            VBox p = prims_[i].box();
+            box.grow(p);
+            cbox.grow(centroid(p));
         }
+        out.box = box.box();
+        out.cbox = cbox.box();
     }
 
     void partition(const Range& r, const BinMap& map, int axis, int k, Range& left, Range& right) const
     {
         std::uint32_t i = r.begin, j = r.end;
-        left = Range();
-        right = Range();
+        VBox lbox = VBox::none(), lcbox = VBox::none(), rbox = VBox::none(), rcbox = VBox::none();
         while (i < j) {
-            const Prim& p = prims_[i];
-            if (map.bin(axis, p.c[axis]) <= k) {
-                left.box.grow(p.box);
-                left.cbox.grow(p.c);
+            VBox p = prims_[i].box();
+            v4f c = centroid(p);
+            if (map.bins3(c)[axis] <= k) {
+                lbox.grow(p);
+                lcbox.grow(c);
                 ++i;
             } else {
-                right.box.grow(p.box);
-                right.cbox.grow(p.c);
+                rbox.grow(p);
+                rcbox.grow(c);
                 std::swap(prims_[i], prims_[--j]);
             }
         }
+        left.box = lbox.box();
+        left.cbox = lcbox.box();
+        right.box = rbox.box();
+        right.cbox = rcbox.box();
         left.begin = r.begin;
         left.end = i;
         right.begin = i;
@@ -308,7 +340,8 @@ private:
         // Ties broken by id: the order, and so the tree, is fully determined.
         std::nth_element(prims_.begin() + r.begin, prims_.begin() + mid, prims_.begin() + r.end,
                          [&](const Prim& x, const Prim& y) {
-                             return x.c[axis] < y.c[axis] || (x.c[axis] == y.c[axis] && x.id < y.id);
+                             float cx = centroid(x.box())[axis], cy = centroid(y.box())[axis];
+                             return cx < cy || (cx == cy && x.id() < y.id());
                          });
         bounds(r.begin, mid, left);
         bounds(mid, r.end, right);
@@ -358,27 +391,30 @@ Bvh build_bvh(const float* positions, const std::uint32_t* indices, std::size_t 
 
     std::vector<Prim> prims(triangle_count);
     parallel_for(triangle_count, threads, [&](std::size_t i) {
-        Prim& p = prims[i];
-        p.box = Box::none();
-        for (int v = 0; v < 3; ++v) p.box.grow(positions + std::size_t(indices[i * 3 + v]) * 3);
-        // Halves first: the sum of two huge finite coordinates would overflow.
-        for (int a = 0; a < 3; ++a) p.c[a] = p.box.lo[a] * 0.5f + p.box.hi[a] * 0.5f;
-        p.id = std::uint32_t(i);
+        Box box = Box::none();
+        for (int v = 0; v < 3; ++v) box.grow(positions + std::size_t(indices[i * 3 + v]) * 3);
+        std::int32_t id = std::int32_t(std::uint32_t(i));
+        v4i lo_bits = reinterpret_cast<v4i>(v4f{box.lo[0], box.lo[1], box.lo[2], 0.0f});
+        lo_bits[3] = id;
+        prims[i] = Prim{reinterpret_cast<v4f>(lo_bits), v4f{box.hi[0], box.hi[1], box.hi[2], 0.0f}};
     });
     Range root;
     root.begin = 0;
     root.end = std::uint32_t(triangle_count);
+    VBox box = VBox::none(), cbox = VBox::none();
     for (const Prim& p : prims) {
-        root.box.grow(p.box);
-        root.cbox.grow(p.c);
+        box.grow(p.box());
+        cbox.grow(centroid(p.box()));
     }
+    root.box = box.box();
+    root.cbox = cbox.box();
 
     Builder builder(prims, options);
     out.nodes.reserve(triangle_count * 2 / std::size_t(std::max(1, options.max_leaf_size / 2)) + 1);
     out.depth = builder.build_parallel(root, 1, threads, out.nodes);
 
     out.tris.resize(triangle_count);
-    parallel_for(triangle_count, threads, [&](std::size_t i) { out.tris[i] = make_tri(positions, indices, prims[i].id); });
+    parallel_for(triangle_count, threads, [&](std::size_t i) { out.tris[i] = make_tri(positions, indices, prims[i].id()); });
     for (const clvis_bvh_node& n : out.nodes) out.leaves += n.count > 0;
     out.sah_cost = bvh_sah_cost(out.nodes);
     return out;
