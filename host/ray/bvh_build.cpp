@@ -199,14 +199,22 @@ public:
             VBox acc = VBox::none();
             std::uint32_t cnt = 0;
             // A side that holds no centroid has an empty box and costs 0; any other box is not empty.
+            // An empty bin leaves both sides as they were, so its cost is that of the bin before it
+            // (never strictly better): it is skipped.
+            right_cost[bins - 1] = 0.0;
             for (int k = bins - 1; k > 0; --k) {
+                if (binned.count[a][k] == 0) {
+                    if (k < bins - 1) right_cost[k] = right_cost[k + 1];
+                    continue;
+                }
                 acc.grow(binned.box[a][k]);
                 cnt += binned.count[a][k];
-                right_cost[k] = cnt ? acc.half_area() * cnt : 0.0;
+                right_cost[k] = acc.half_area() * cnt;
             }
             acc = VBox::none();
             cnt = 0;
             for (int k = 0; k < bins - 1; ++k) {
+                if (binned.count[a][k] == 0) continue;
                 acc.grow(binned.box[a][k]);
                 cnt += binned.count[a][k];
                 if (cnt == 0 || cnt == n) continue;
@@ -250,9 +258,10 @@ private:
         auto bin_part = [&](std::uint32_t b, std::uint32_t e, Bins& out) {
             for (std::uint32_t i = b; i < e; ++i) {
                 VBox box = prims_[i].box();
+                // An axis without extent bins everything into bin 0 ((c - lo) is 0 there) and is
+                // never swept: no branch per axis.
                 v4i k = map.bins3(centroid(box));
                 for (int a = 0; a < 3; ++a) {
-                    if (!map.valid[a]) continue;
                     out.box[a][k[a]].grow(box);
                     ++out.count[a][k[a]];
                 }
