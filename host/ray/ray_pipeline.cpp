@@ -170,12 +170,11 @@ struct RayPipeline::Impl {
         return o;
     }
 
-    void build_flat(const Scene& scene, cl::CommandQueue& queue)
+    void build_flat(const Scene& scene)
     {
         bvh = build_bvh(scene.world_positions().data(), scene.world_indices().data(), scene.triangle_count(),
                         build_options());
         wide = collapse_bvh4(bvh);
-        upload(queue, false);
     }
 
     /// Builds everything `scene` needs: the flat BVH, or the two levels (prototype trees reused).
@@ -190,9 +189,10 @@ struct RayPipeline::Impl {
             prepare_trace();
             upload(queue, true);
         } else {
-            build_flat(scene, queue);
-            fill_stats(ms_since(t0), false);
+            build_flat(scene);
+            fill_stats(ms_since(t0), false); // the upload is timed on its own (upload_ms)
             prepare_trace();
+            upload(queue, false);
         }
         built = true;
     }
