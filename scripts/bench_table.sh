@@ -1,7 +1,8 @@
 #!/bin/sh
 # Regenerates the README's performance table in one command: runs `clvis bench` (the full sweep
 # by default) into docs/bench (bench.json, bench.csv, plots), then rewrites the table between the
-# bench-table markers of README.md with how the run was made (command, machine, load).
+# bench-table markers of README.md with how the run was made (command, machine, load), and writes
+# bounds.md beside the run: where each point's time goes (stages, misses, builds).
 #   scripts/bench_table.sh                      # the full sweep, as the README's table is made
 #   scripts/bench_table.sh --repeat 3           # three passes: the spread across them as well
 #   BENCH_OUT=/tmp/b scripts/bench_table.sh --quick   # a short check that leaves docs/bench alone
@@ -15,3 +16,4 @@ out=${BENCH_OUT:-docs/bench}
 cd "$root"
 "$clvis" bench --out "$out" "$@"
 /usr/bin/python3 bench/readme_table.py "$out/bench.json" README.md --note "${BENCH_NOTE:-}"
+/usr/bin/python3 bench/bounds_table.py "$out/bench.json" "$out/bounds.md"
