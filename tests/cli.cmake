@@ -87,9 +87,16 @@ expect(0 "\"height\": 40.*\"width\": 80" render ${WORK}/scene.json --path all --
 # The raster path's depth test, chosen or resolved from the device, is reported.
 expect(0 "\"raster_atomics\": \"off\"" render ${MESH} ${size} --raster-atomics off --json)
 expect(0 "\"raster_atomics\": \"o[nf]f?\"" render ${MESH} ${size} --json)
-# The raster fine stage's mapping, chosen, is reported; the pixel mapping renders.
+# The raster fine stage's mapping, chosen or measured, is reported with where it came from.
 expect(0 "\"raster_mapping\": \"pixel\"" render ${MESH} ${size} --raster-mapping pixel --json)
-expect(0 "\"raster_mapping\": \"square\"" render ${MESH} ${size} --json)
+expect(0 "\"raster_mapping\": \"square\",[ \n]+\"raster_mapping_source\": \"option\"" render ${MESH} ${size} --raster-mapping square --json)
+expect(0 "\"raster_mapping\": \"(square|pixel)\",[ \n]+\"raster_mapping_ms\": {[^}]*\"pixel\"[^}]*},[ \n]+\"raster_mapping_source\": \"(measured|cache)\"" render ${MESH} ${size} --raster-mapping auto --json)
+# auto: measured on first use (then cached), or forced by CLVIS_TUNE_RASTER_MAPPING.
+set(ENV{CLVIS_TUNE_RASTER_MAPPING} pixel)
+expect(0 "\"raster_mapping\": \"pixel\",[ \n]+\"raster_mapping_source\": \"forced\"" render ${MESH} ${size} --json)
+set(ENV{CLVIS_TUNE_RASTER_MAPPING} tiles)
+expect(2 "^clvis: .*CLVIS_TUNE_RASTER_MAPPING must name one of square, pixel, got 'tiles'" render ${MESH} ${size})
+unset(ENV{CLVIS_TUNE_RASTER_MAPPING})
 if(WITH_IMAGE_IO)
   expect(0 "" render ${WORK}/scene.json --image ${WORK}/scene.png --ids ${WORK}/scene.tif --path raster --quiet)
   expect(0 "" render ${WORK}/scene.json --ids ${WORK}/scene-ray.tif --path ray --quiet)

@@ -124,11 +124,12 @@ TEST_CASE("the pixel mapping draws long bins in chunks within a loop cap", "[dev
     }
 }
 
-TEST_CASE("raster mappings are named square and pixel, others refused")
+TEST_CASE("raster mappings are named auto, square and pixel, others refused")
 {
+    CHECK(raster_mapping_from_string("auto") == RasterMapping::Auto);
     CHECK(raster_mapping_from_string("square") == RasterMapping::Square);
     CHECK(raster_mapping_from_string("pixel") == RasterMapping::Pixel);
     CHECK(std::string(to_string(RasterMapping::Pixel)) == "pixel");
-    CHECK_THROWS_AS(raster_mapping_from_string("tiles"), Error);
-    CHECK(RenderOptions{}.raster_mapping == RasterMapping::Square);
+    CHECK_THROWS_WITH(raster_mapping_from_string("tiles"), Catch::Contains("auto, square or pixel"));
+    CHECK(RenderOptions{}.raster_mapping == RasterMapping::Auto);
 }

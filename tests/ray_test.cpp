@@ -3,6 +3,7 @@
 // hit, near/far/behind/orthographic/ties/degenerate cases, axis-parallel rays against flat
 // boxes, determinism, and refits that draw what rebuilds draw.
 #include "catch.hpp"
+#include "test_files.hpp"
 #include "test_meshes.hpp"
 
 #include <clvis/clvis.hpp>
@@ -257,22 +258,8 @@ namespace {
 
 /// Sets CLVIS_EXACT_FLOAT for its lifetime (kernels built meanwhile take the float-only exact
 /// fallback, shared/exact.h), then restores what was there.
-struct ExactFloat {
-    std::string saved;
-    bool had = false;
-    explicit ExactFloat(const char* value)
-    {
-        if (const char* v = std::getenv("CLVIS_EXACT_FLOAT")) {
-            saved = v;
-            had = true;
-        }
-        setenv("CLVIS_EXACT_FLOAT", value, 1);
-    }
-    ~ExactFloat()
-    {
-        if (had) setenv("CLVIS_EXACT_FLOAT", saved.c_str(), 1);
-        else unsetenv("CLVIS_EXACT_FLOAT");
-    }
+struct ExactFloat : test::ScopedEnv {
+    explicit ExactFloat(const char* value) : ScopedEnv("CLVIS_EXACT_FLOAT", value) {}
 };
 
 /// Pairs of a ray and a triangle whose float edge functions round one to zero (the exact fallback

@@ -1,6 +1,7 @@
 // Files written by tests into a folder of their own under the system's temporary directory.
 #pragma once
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -14,6 +15,37 @@ inline std::string write_temp_file(const std::string& folder, const std::string&
     std::filesystem::create_directories(p.parent_path());
     std::ofstream(p, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
     return p.string();
+}
+
+/// Sets an environment variable for its lifetime (nullptr: unsets it), then restores what was there.
+struct ScopedEnv {
+    std::string name, saved;
+    bool had = false;
+    ScopedEnv(const char* variable, const char* value) : name(variable)
+    {
+        if (const char* v = std::getenv(variable)) {
+            saved = v;
+            had = true;
+        }
+        if (value) setenv(variable, value, 1);
+        else unsetenv(variable);
+    }
+    ~ScopedEnv()
+    {
+        if (had) setenv(name.c_str(), saved.c_str(), 1);
+        else unsetenv(name.c_str());
+    }
+    ScopedEnv(const ScopedEnv&) = delete;
+    ScopedEnv& operator=(const ScopedEnv&) = delete;
+};
+
+/// A new empty folder <tmp>/<name> (emptied when it exists).
+inline std::filesystem::path fresh_temp_dir(const std::string& name)
+{
+    std::filesystem::path p = std::filesystem::temp_directory_path() / name;
+    std::filesystem::remove_all(p);
+    std::filesystem::create_directories(p);
+    return p;
 }
 
 } // namespace clvis::test

@@ -6,4 +6,12 @@
 #include <catch2/catch.hpp>
 #endif
 
-int main(int argc, char** argv) { return Catch::Session().run(argc, argv); }
+#include <cstdlib>
+
+int main(int argc, char** argv)
+{
+    // What clvis keeps between runs (tuned choices such as RasterMapping::Auto's, program
+    // binaries) goes to the build tree, never to the user's cache folder.
+    setenv("CLVIS_CACHE_DIR", CLVIS_BINARY_DIR "/tests/cache", 1);
+    return Catch::Session().run(argc, argv);
+}

@@ -3,6 +3,7 @@
 #include "commands.hpp"
 #include "options.hpp"
 #include "render_ao.hpp"
+#include "render_report.hpp"
 #include "render_spread.hpp"
 
 #include "bench_stats.hpp"
@@ -27,7 +28,7 @@ struct RenderArgs {
     SceneInput scene;
     CameraOptions camera;
     DeviceOptions device;
-    std::string path = "raster", raster_mapping = "square"; ///< raster_mapping: RenderOptions::raster_mapping
+    std::string path = "raster", raster_mapping = "auto"; ///< raster_mapping: RenderOptions::raster_mapping
     std::string ids, depth, image, shade = "lambert", cull = "none", raster_atomics = "auto";
     std::string coverage = "watertight"; ///< the ray paths' inside test (RenderOptions::coverage)
     std::string bary, normals, position; ///< attributes resolved from the buffer (EXR)
@@ -235,15 +236,6 @@ PathResult run_path(Renderer& renderer, const std::vector<Camera>& cameras, cons
     return r;
 }
 
-/// Stage times by name; null when the queue gave none (FrameTiming::stages_measured).
-nlohmann::json stages_json(const FrameTiming& t)
-{
-    if (!t.stages_measured) return nullptr;
-    nlohmann::json s = nlohmann::json::object();
-    for (const auto& st : t.stages) s[st.name] = st.ms;
-    return s;
-}
-
 /// The summary line of one path on standard error.
 std::string path_line(const PathResult& r)
 {
@@ -336,19 +328,20 @@ nlohmann::json path_json(const PathResult& r)
 }
 
 /// --json: one object on standard output.
-nlohmann::json render_json(const RenderArgs& a, const SceneFile& file,
-                           const Camera& camera, const Device& device, double load_ms,
-                           const std::vector<PathResult>& results, const nlohmann::json& compare_json)
+nlohmann::json render_json(const RenderArgs& a, const SceneFile& file, const Camera& camera, Renderer& renderer,
+                           double load_ms, const std::vector<PathResult>& results, const nlohmann::json& compare_json)
 {
     bool several = results.size() > 1;
     nlohmann::json j = several ? nlohmann::json{{"path", "all"}} : path_json(results[0]);
     j["triangles"] = file.scene.triangle_count();
     j["width"] = a.width;
     j["height"] = a.height;
-    j["device"] = device.info().name;
+    const DeviceInfo& device = renderer.device().info();
+    j["device"] = device.name;
     // The raster path's depth test as Auto resolves it (RasterPipeline: atomics where offered).
-    j["raster_atomics"] = a.raster_atomics != "auto" ? a.raster_atomics : device.info().int64_atomics ? "on" : "off";
-    j["raster_mapping"] = a.raster_mapping;
+    j["raster_atomics"] = a.raster_atomics != "auto" ? a.raster_atomics : device.int64_atomics ? "on" : "off";
+    bool raster = std::any_of(results.begin(), results.end(), [](const PathResult& r) { return r.path == Path::Raster; });
+    add_raster_mapping_json(j, raster ? &renderer : nullptr, a.raster_mapping);
     j["load_ms"] = load_ms;
     j["warm_up"] = a.repeat > 0 || a.timings;
     j["camera"] = camera.to_flags();
@@ -431,7 +424,7 @@ void render_command(RenderArgs a)
     nlohmann::json compare_json;
     if (several) compare_json = compare_paths(file, camera, a, render_options(a), results, say);
     if (a.json) {
-        nlohmann::json j = render_json(a, file, camera, device, load_ms, results, compare_json);
+        nlohmann::json j = render_json(a, file, camera, renderer, load_ms, results, compare_json);
         if (a.timings) j["first_frame"] = first_frame_json(open_ms, renderer_ms, results);
         std::cout << j.dump(2) << "\n";
     }
@@ -481,8 +474,9 @@ void add_render_command(CLI::App& app)
                     "raster depth test: on (64-bit atomics), off (tile ownership, no atomics) or auto (on where "
                     "the device has 64-bit atomics); the same keys either way")
         ->check(CLI::IsMember({"auto", "on", "off"}));
-    cmd->add_option("--raster-mapping", args->raster_mapping, "raster fine stage: square (CPUs) or pixel (GPUs); same keys")
-        ->check(CLI::IsMember({"square", "pixel"}));
+    cmd->add_option("--raster-mapping", args->raster_mapping,
+                    "raster fine stage: square (CPUs), pixel (GPUs) or auto (measured per device, cached); same keys")
+        ->check(CLI::IsMember({"auto", "square", "pixel"}));
     cmd->add_option("--leaf-size", args->leaf, "BVH: triangles per leaf at most");
     args->spread.add_to(*cmd);
     cmd->add_option("--coverage", args->coverage,

@@ -62,9 +62,23 @@ std::size_t floor_pow2(std::size_t v)
 
 } // namespace
 
+int raster_tile_log2(const RenderOptions& options)
+{
+    if (options.tile_size == 0) return default_tile_log2;
+    int log2 = 0;
+    while ((1 << log2) < options.tile_size) ++log2;
+    return log2;
+}
+
+bool raster_owned(const DeviceInfo& info, const RenderOptions& options)
+{
+    return options.raster_atomics == RasterAtomics::Off ||
+           (options.raster_atomics == RasterAtomics::Auto && !info.int64_atomics);
+}
+
 struct RasterPipeline::Impl {
     Device::Impl& device;
-    int tile_log2 = default_tile_log2;
+    int tile_log2;
     int cull = CLVIS_CULL_NONE;
     bool owned = false; ///< tile ownership: raster_setup.cl built with CLVIS_RASTER_OWNED
     bool pixel = false; ///< RasterMapping::Pixel: raster_fine_pixel
@@ -78,14 +92,9 @@ struct RasterPipeline::Impl {
     std::size_t projected_capacity = 0, tri_capacity = 0, entry_capacity = 0, tile_capacity = 0;
 
     Impl(Device::Impl& d, const RenderOptions& o)
-        : device(d), cull(cull_mode(o.cull)), pixel(o.raster_mapping == RasterMapping::Pixel)
+        : device(d), tile_log2(raster_tile_log2(o)), cull(cull_mode(o.cull)), owned(raster_owned(d.info, o)),
+          pixel(o.raster_mapping == RasterMapping::Pixel)
     {
-        owned = o.raster_atomics == RasterAtomics::Off ||
-                (o.raster_atomics == RasterAtomics::Auto && !device.info.int64_atomics);
-        if (o.tile_size != 0) {
-            tile_log2 = 0;
-            while ((1 << tile_log2) < o.tile_size) ++tile_log2;
-        }
     }
 
     /// Edge in pixels of the square a work-item of raster_fine.cl owns.

@@ -99,6 +99,13 @@ inline std::size_t round_up(std::size_t n, std::size_t multiple) { return (n + m
 /// and runs setup again (tests/oclgrind_test.cpp drives that path).
 constexpr std::size_t raster_first_tri_capacity = std::size_t(1) << 12;
 
+/// The raster tile edge (log2) that RenderOptions::tile_size asks for (0: the default).
+int raster_tile_log2(const RenderOptions& options);
+/// Whether the raster path runs by tile ownership on `info` under `options` (RasterAtomics).
+bool raster_owned(const DeviceInfo& info, const RenderOptions& options);
+
+/// The raster path. Its options name Square or Pixel: the Renderer resolves Auto first
+/// (raster/raster_tune.hpp).
 class RasterPipeline {
 public:
     RasterPipeline(Device::Impl& device, const RenderOptions& options);

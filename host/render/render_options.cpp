@@ -35,6 +35,7 @@ const char* to_string(RasterAtomics mode) noexcept
 const char* to_string(RasterMapping mapping) noexcept
 {
     switch (mapping) {
+    case RasterMapping::Auto: return "auto";
     case RasterMapping::Square: return "square";
     case RasterMapping::Pixel: return "pixel";
     }
@@ -59,9 +60,9 @@ RasterAtomics raster_atomics_from_string(const std::string& name)
 
 RasterMapping raster_mapping_from_string(const std::string& name)
 {
-    for (RasterMapping m : {RasterMapping::Square, RasterMapping::Pixel})
+    for (RasterMapping m : {RasterMapping::Auto, RasterMapping::Square, RasterMapping::Pixel})
         if (name == to_string(m)) return m;
-    throw Error(Error::Kind::InvalidArgument, "unknown raster mapping '" + name + "' (square or pixel)");
+    throw Error(Error::Kind::InvalidArgument, "unknown raster mapping '" + name + "' (auto, square or pixel)");
 }
 
 int samples_log2(int samples)

@@ -3,6 +3,8 @@
 // ray_pipeline.cpp behind render/pipeline.hpp.
 #include "render/renderer_impl.hpp"
 
+#include "raster/raster_tune.hpp"
+
 #include <clvis/renderer.hpp>
 
 #include <chrono>
@@ -122,9 +124,19 @@ void Renderer::Impl::upload_positions(std::size_t first_vertex, std::size_t coun
     }
 }
 
+const RasterMappingChoice& Renderer::Impl::raster_mapping()
+{
+    if (!mapping) mapping = choose_raster_mapping(device, options);
+    return *mapping;
+}
+
 RasterPipeline& Renderer::Impl::raster_pipeline()
 {
-    if (!raster) raster = std::make_unique<RasterPipeline>(dev(), options);
+    if (!raster) {
+        RenderOptions resolved = options;
+        resolved.raster_mapping = raster_mapping().mapping;
+        raster = std::make_unique<RasterPipeline>(dev(), resolved);
+    }
     return *raster;
 }
 
@@ -310,6 +322,11 @@ const BvhStats& Renderer::bvh_stats() const
     return m.ray ? m.ray->stats() : m.no_bvh;
 }
 const RenderOptions& Renderer::options() const { return checked("Renderer::options").options; }
+const RasterMappingChoice& Renderer::raster_mapping()
+{
+    Impl& m = checked("Renderer::raster_mapping");
+    return error_boundary("choosing the raster mapping", [&]() -> const RasterMappingChoice& { return m.raster_mapping(); });
+}
 const Device& Renderer::device() const { return checked("Renderer::device").device; }
 
 } // namespace clvis

@@ -7,6 +7,7 @@
 #include <clvis/renderer.hpp>
 
 #include <memory>
+#include <optional>
 
 namespace clvis {
 
@@ -36,6 +37,10 @@ struct Renderer::Impl {
     }
     void upload_positions(std::size_t first_vertex, std::size_t count);
     detail::RayPipeline& ray_pipeline(bool need_bvh);
+    std::optional<RasterMappingChoice> mapping; ///< options.raster_mapping resolved, once needed
+    /// The raster mapping, resolved on first use (Auto: the tuner, raster/raster_tune.hpp).
+    const RasterMappingChoice& raster_mapping();
+    /// The raster path, made on first use with the resolved mapping.
     detail::RasterPipeline& raster_pipeline();
     /// One frame of `path`: `region` of a width x height image into `target` (the region's
     /// size), for a camera already validated.

@@ -2,6 +2,7 @@
 // program cache (in memory, and on disk for drivers that do not cache binaries themselves), and
 // the translation of OpenCL errors into clvis::Error.
 #include "lower_case.hpp"
+#include "runtime/cache_dir.hpp"
 #include "runtime/cl_runtime.hpp"
 
 #include "runtime/embedded_kernels.hpp"
@@ -231,14 +232,6 @@ bool driver_caches_programs(const DeviceInfo& info)
     return info.platform.find("Portable Computing Language") != std::string::npos;
 }
 
-std::filesystem::path binary_cache_dir()
-{
-    if (const char* dir = std::getenv("CLVIS_CACHE_DIR"); dir && *dir) return dir;
-    if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::filesystem::path(xdg) / "clvis";
-    if (const char* home = std::getenv("HOME"); home && *home) return std::filesystem::path(home) / ".cache" / "clvis";
-    return {};
-}
-
 /// CLVIS_EXACT_FLOAT=1 builds every kernel with the float-only form of the ray path's exact edge
 /// fallback (kernels/shared/exact.h), the form devices without cl_khr_fp64 always use.
 bool exact_float_requested()
@@ -465,7 +458,7 @@ cl::Program Device::Impl::program(const std::string& name, const std::string& ex
                                                       "\n" + info.driver_version + "\n" + info.platform));
     std::filesystem::path cache_file;
     if (!driver_caches_programs(info)) {
-        std::filesystem::path dir = binary_cache_dir();
+        std::filesystem::path dir = cache_dir();
         if (!dir.empty()) cache_file = dir / (name + "-" + hash + ".bin");
     }
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 // The OpenCL handles of the API, declared exactly as <CL/cl.h> declares them (a repeated identical
@@ -46,6 +47,19 @@ struct DeviceInfo {
 /// Every device of every OpenCL platform. Throws Error(Device) when no platform is installed,
 /// with a message that says how to install one (PoCL).
 std::vector<DeviceInfo> list_devices();
+
+/// A choice clvis measured on a device and keeps in its cache folder (RasterMapping::Auto).
+struct TunedChoice {
+    std::string name; ///< what was chosen: "raster_mapping"
+    /// What else it depends on (field, value): the kernels' hash, depth test, tile size, ...
+    std::vector<std::pair<std::string, std::string>> key;
+    std::string choice;                                   ///< "square", "pixel", ...
+    std::vector<std::pair<std::string, double>> times_ms; ///< each candidate's measured time
+};
+
+/// The choices kept in the cache folder for `device` (the same name, platform and driver);
+/// none when there is no cache folder.
+std::vector<TunedChoice> tuned_choices(const DeviceInfo& device);
 
 class Device {
 public:

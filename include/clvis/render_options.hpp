@@ -2,7 +2,7 @@
 // Plain types without OpenCL, shared by the Renderer, the paths behind it, the referee and the
 // tools. Every RenderOptions field means the same on every path (Path::Raster, Path::Ray,
 // Path::Brute): `cull` changes the answer, and every path and the referee apply it alike;
-// `tile_size`, `raster_atomics` and `bvh` only tune one path's speed and never change an answer;
+// `tile_size`, `raster_atomics`, `raster_mapping` and `bvh` only tune one path's speed and never change an answer;
 // `coverage` picks the ray paths' tie rule on shared edges (both answers are right, see Coverage).
 #pragma once
 
@@ -88,6 +88,12 @@ RasterAtomics raster_atomics_from_string(const std::string& name);
 /// How the raster path's fine stage (kernels/raster_fine.cl) maps work onto a device. Both give
 /// the same keys, bit for bit.
 enum class RasterMapping {
+    /// Square or Pixel, whichever ran faster on this device: measured on a short synthetic
+    /// workload the first time a device, driver, kernel build, depth test and tile size are met,
+    /// then read from the cache folder ($CLVIS_CACHE_DIR, else $XDG_CACHE_HOME/clvis, else
+    /// ~/.cache/clvis). CLVIS_TUNE_CACHE=0 measures every time; CLVIS_TUNE_RASTER_MAPPING=square
+    /// or pixel forces the choice. Renderer::raster_mapping() reports it.
+    Auto,
     Square, ///< a work-item per square of up to 16x16 pixels of a tile, walking the tile's bin
             ///< alone on 8-pixel vector spans (suits CPU devices: PoCL vectorizes the spans)
     Pixel,  ///< a work-group per square of a tile, a work-item per pixel; the group walks the
@@ -95,8 +101,18 @@ enum class RasterMapping {
 };
 
 const char* to_string(RasterMapping mapping) noexcept;
-/// "square" or "pixel"; throws Error(InvalidArgument) otherwise.
+/// "auto", "square" or "pixel"; throws Error(InvalidArgument) otherwise.
 RasterMapping raster_mapping_from_string(const std::string& name);
+
+/// The raster mapping a Renderer runs and where it came from (Renderer::raster_mapping()).
+struct RasterMappingChoice {
+    RasterMapping mapping = RasterMapping::Square; ///< Square or Pixel, never Auto
+    /// "option" (RenderOptions named it), "forced" (Auto, CLVIS_TUNE_RASTER_MAPPING), "cache" (Auto,
+    /// an earlier measurement) or "measured" (Auto, measured by this Renderer)
+    std::string source = "option";
+    /// Auto's measurement (ms on the tuning workload's fine stage; -1 when not measured)
+    double square_ms = -1, pixel_ms = -1;
+};
 
 struct RenderOptions {
     int tile_size = 0;      ///< raster tile edge in pixels (a power of two); 0 picks the default
@@ -105,7 +121,7 @@ struct RenderOptions {
     Region region;
     Cull cull = Cull::None; ///< face culling, on every path (see Cull)
     RasterAtomics raster_atomics = RasterAtomics::Auto; ///< the raster path's depth test (see RasterAtomics)
-    RasterMapping raster_mapping = RasterMapping::Square; ///< the raster fine stage's mapping (see RasterMapping)
+    RasterMapping raster_mapping = RasterMapping::Auto; ///< the raster fine stage's mapping (see RasterMapping)
     BvhOptions bvh;         ///< the ray path's tree (Path::Ray; the brute path has none)
     Coverage coverage = Coverage::Watertight; ///< the ray paths' inside test (see Coverage)
     /// Samples per pixel: 1, 2, 4, 8 or 16, at the standard positions of CONVENTIONS.md

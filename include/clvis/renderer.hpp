@@ -53,6 +53,10 @@ public:
     const BvhStats& bvh_stats() const;
     const RenderOptions& options() const;
     const Device& device() const;
+    /// The raster fine stage's mapping this Renderer runs and where it came from: options()'s,
+    /// or for RasterMapping::Auto the tuner's choice for this device, made when first needed (the
+    /// first raster frame, prepare(Path::Raster), or this call), measuring when nothing is cached.
+    const RasterMappingChoice& raster_mapping();
 
     struct Impl;
 
