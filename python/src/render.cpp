@@ -22,9 +22,12 @@ Path path_named(const std::string& name)
 
 RenderOptions render_options(int tile, const std::string& cull, int leaf_size, int sah_bins,
                              const std::string& bvh_update, const std::string& raster_atomics,
-                             const std::string& coverage, int samples)
+                             const std::string& coverage, int samples, const std::string& raster_mapping)
 {
     RenderOptions o;
+    o.raster_mapping = parse_choice<RasterMapping>(
+        raster_mapping, "raster_mapping",
+        {{"auto", RasterMapping::Auto}, {"square", RasterMapping::Square}, {"pixel", RasterMapping::Pixel}});
     o.samples = samples; // checked by the Renderer: 1, 2, 4, 8 or 16
     o.tile_size = tile;
     o.raster_atomics = parse_choice<RasterAtomics>(
@@ -305,6 +308,8 @@ const char* renderer_doc =
     "Options as the command line names them: tile (raster tile edge, a power of two; 0 the default),\n"
     "cull ('none', 'back', 'front'), leaf_size and sah_bins (the BVH), bvh_update ('refit', 'rebuild'),\n"
     "raster_atomics ('auto', 'on': 64-bit atomic depth test, 'off': tile ownership; the same keys),\n"
+    "raster_mapping (the raster fine stage: 'square' for CPUs, 'pixel' for GPUs, 'auto' measured per\n"
+    "device and cached; the same keys),\n"
     "coverage (the ray paths' inside test: 'watertight', or 'raster-rule': the raster path's own\n"
     "rule, so that ray and raster buffers are bit-identical), samples (per pixel: 1, 2, 4, 8 or 16 at\n"
     "the standard positions; with more than 1, render() returns (H, W, samples) arrays, the samples of\n"
@@ -322,9 +327,10 @@ void bind_render(nb::module_& m)
     nb::class_<PyRenderer> r(m, "Renderer", nb::is_weak_referenceable(), renderer_doc);
     const auto init = [](PyRenderer* self, const Device& device, PyScene& scene, int tile, const std::string& cull,
                          int leaf_size, int sah_bins, const std::string& bvh_update,
-                         const std::string& raster_atomics, const std::string& coverage, int samples) {
-        const RenderOptions o =
-            render_options(tile, cull, leaf_size, sah_bins, bvh_update, raster_atomics, coverage, samples);
+                         const std::string& raster_atomics, const std::string& coverage, int samples,
+                         const std::string& raster_mapping) {
+        const RenderOptions o = render_options(tile, cull, leaf_size, sah_bins, bvh_update, raster_atomics, coverage,
+                                               samples, raster_mapping);
         unlocked(scene.lock, [&] {
             const auto triangles = std::uint32_t(scene.scene.triangle_count());
             new (self) PyRenderer{Renderer(device, scene.scene, o), {}, triangles, nullptr, {}};
@@ -364,7 +370,23 @@ void bind_render(nb::module_& m)
             nb::arg("path"), "Builds what `path` needs (kernels, BVH) so that the first render is not charged for it.")
         .def_prop_ro("last_frame", [](PyRenderer& r) { return unlocked(r.lock, [&] { return r.renderer.last_frame(); }); })
         .def_prop_ro("bvh_stats", [](PyRenderer& r) { return unlocked(r.lock, [&] { return r.renderer.bvh_stats(); }); })
-        .def_prop_ro("device", [](PyRenderer& r) { return unlocked(r.lock, [&] { return r.renderer.device(); }); });
+        .def_prop_ro("device", [](PyRenderer& r) { return unlocked(r.lock, [&] { return r.renderer.device(); }); })
+        .def_prop_ro(
+            "raster_mapping",
+            [](PyRenderer& r) {
+                const RasterMappingChoice c = unlocked(r.lock, [&] { return r.renderer.raster_mapping(); });
+                const auto ms = [](double v) { return v < 0 ? nb::none() : nb::cast(v); };
+                nb::dict d;
+                d["mapping"] = to_string(c.mapping);
+                d["source"] = c.source;
+                d["square_ms"] = ms(c.square_ms);
+                d["pixel_ms"] = ms(c.pixel_ms);
+                return d;
+            },
+            "The raster fine stage's mapping this Renderer runs, as a dict: mapping ('square' or 'pixel'),\n"
+            "source ('option', 'forced', 'cache' or 'measured': raster_mapping='auto' measures both once\n"
+            "per device and keeps the answer in the cache folder) and the measured square_ms and pixel_ms\n"
+            "(None when not measured). Reading it resolves 'auto' when no raster frame has yet.");
     bind_ray_queries(r);
     bind_outputs(r);
 }

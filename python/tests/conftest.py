@@ -3,6 +3,7 @@ tests), the repository's meshes and small scenes with their framing cameras."""
 
 import os
 import pathlib
+import tempfile
 
 import numpy as np
 import pytest
@@ -15,6 +16,9 @@ SCENES = REPO / "scenes"
 
 def pytest_configure(config):
     config.addinivalue_line("markers", "slow: builds the package from a clean clone (minutes)")
+    # What clvis keeps between runs (raster_mapping='auto' measurements, program binaries) goes to
+    # a folder of the session's own, never to the user's cache folder.
+    os.environ["CLVIS_CACHE_DIR"] = tempfile.mkdtemp(prefix="clvis-pytest-cache-")
 
 
 @pytest.fixture(scope="session")

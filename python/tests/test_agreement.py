@@ -37,6 +37,27 @@ def test_both_raster_depth_tests_give_the_same_buffer(device, bunny):
     assert np.array_equal(want.depth.view(np.uint32), got.depth.view(np.uint32))
 
 
+def test_every_raster_mapping_gives_the_same_buffer(device, bunny):
+    camera = clvis.Camera.framing(bunny.bounds())
+    renders = {}
+    for mapping in ("auto", "square", "pixel"):
+        renderer = clvis.Renderer(device, bunny, raster_mapping=mapping)
+        renders[mapping] = renderer.render(camera, W, H)
+        chosen = renderer.raster_mapping
+        if mapping == "auto":  # measured by this session (its own cache folder, conftest.py) or read back
+            assert chosen["source"] in ("measured", "cache")
+            assert chosen["square_ms"] > 0 and chosen["pixel_ms"] > 0
+            fastest = "pixel" if chosen["pixel_ms"] < chosen["square_ms"] else "square"
+            assert chosen["mapping"] == fastest
+        else:
+            assert chosen == {"mapping": mapping, "source": "option", "square_ms": None, "pixel_ms": None}
+    assert renders["auto"].ids.tolist() == renders["square"].ids.tolist() == renders["pixel"].ids.tolist()
+    for mapping in ("square", "pixel"):
+        assert np.array_equal(renders["auto"].depth.view(np.uint32), renders[mapping].depth.view(np.uint32))
+    with pytest.raises(ValueError, match="raster_mapping"):
+        clvis.Renderer(device, bunny, raster_mapping="tiles")
+
+
 @pytest.mark.parametrize("mesh", ["spot.obj", "teapot.obj", "suzanne.obj"])
 def test_raster_and_ray_agree_on_the_bundled_meshes(device, mesh):
     scene = clvis.load_scene(SCENES / mesh)
