@@ -5,7 +5,8 @@
 #   2. builds clvis without the image layer and the reference renderers (what that machine lacks);
 #   3. runs the device suite, the agreement suite and the raster-rule and tile-ownership checks
 #      on each device found: NVIDIA's GPU, then PoCL's CPU device (all cores);
-#   4. runs `clvis bench --quick` on each, clvis against itself only (no reference renderer there).
+#   4. runs `clvis bench --quick` on each, clvis against itself only (no reference renderer there),
+#      and 1080p renders of both paths and of both raster mappings (Auto's choice in devices-tuned.txt).
 # Writes everything under $OUT (default gpu-check-out/): clinfo, test logs, bench.json / .csv per
 # device, and summary.txt (one line per step with its exit status and seconds). Exits non-zero
 # when any step failed; every step runs regardless, so one run reports everything.
@@ -17,6 +18,7 @@ cd "$(dirname "$0")/.." || exit 1
 out=${OUT:-gpu-check-out}
 mkdir -p "$out"
 summary=$out/summary.txt
+export CLVIS_CACHE_DIR="$(cd "$out" && pwd)/cache" # Auto's measurements come back with the rest
 : >"$summary"
 failed=0
 jobs=$(nproc)
@@ -82,7 +84,15 @@ for dev in "${devices[@]}"; do
             "$build/clvis" render scenes/stanford-bunny.obj --path "$path" --width 1920 --height 1080 \
             --repeat 20 --timings --json --device "$dev"
     done
+    # The raster fine stage's two mappings at 1080p, against Auto's choice in the render above.
+    for mapping in square pixel; do
+        step "clvis render bunny 1920x1080 raster $mapping on $dev" "$out/render-raster-$mapping-$tag.log" \
+            "$build/clvis" render scenes/stanford-bunny.obj --raster-mapping "$mapping" --width 1920 --height 1080 \
+            --repeat 20 --json --device "$dev"
+    done
 done
 unset CLVIS_DEVICE
+# RasterMapping::Auto's measured choices per device (kept in $out/cache, listed by clvis devices).
+"$build/clvis" devices >"$out/devices-tuned.txt" 2>&1 || true
 echo "summary: $summary" >&2
 exit "$failed"

@@ -182,6 +182,21 @@ TEST_CASE("the tuner reads its switches from the environment")
     }
 }
 
+TEST_CASE("the tuner refuses requests its files cannot hold")
+{
+    Counted c;
+    TuneRequest bad = c.request("16");
+    bad.name = "Raster Mapping";
+    CHECK_THROWS_AS(tune(bad, {}), Error);
+    bad = c.request("16");
+    bad.candidates = {"two words"};
+    CHECK_THROWS_WITH(tune(bad, {}), Catch::Contains("'two words'"));
+    bad = c.request("16");
+    bad.key.emplace_back("tile size", "16");
+    CHECK_THROWS_WITH(tune(bad, {}), Catch::Contains("'tile size'"));
+    CHECK(c.calls == 0);
+}
+
 TEST_CASE("the tuner takes the first of equally fast candidates")
 {
     auto dir = test::fresh_temp_dir("clvis-tune-ties");

@@ -138,9 +138,13 @@ void check_request(const TuneRequest& request)
     });
     if (!plain || request.candidates.empty() || !request.measure)
         throw Error(Error::Kind::InvalidArgument, "tune: a request needs a name of [a-z0-9_], candidates and a measure");
+    auto one_word = [](const std::string& w) { return !w.empty() && w.find_first_of(" \n\r") == std::string::npos; };
     for (const std::string& c : request.candidates)
-        if (c.empty() || c.find_first_of(" \n\r") != std::string::npos)
+        if (!one_word(c))
             throw Error(Error::Kind::InvalidArgument, "tune: candidate '" + c + "' of " + request.name + " is not one word");
+    for (const auto& [field, value] : request.key)
+        if (!one_word(field))
+            throw Error(Error::Kind::InvalidArgument, "tune: key field '" + field + "' of " + request.name + " is not one word");
 }
 
 } // namespace

@@ -32,8 +32,8 @@ struct TuneResult {
     std::vector<TuneTime> times; ///< every candidate's, as measured (now or when cached); empty when forced
 };
 
-/// What a choice depends on: (field, value) pairs, e.g. ("device", "NVIDIA H200"). Values hold no
-/// line breaks (they are replaced by spaces).
+/// What a choice depends on: (field, value) pairs, e.g. ("device", "NVIDIA H200"). Fields are one
+/// word; line breaks in values are replaced by spaces.
 using TuneKey = std::vector<std::pair<std::string, std::string>>;
 
 struct TuneRequest {
@@ -61,7 +61,8 @@ struct TuneSettings {
 /// another key or an unknown candidate counts as absent and is rewritten; one that cannot be
 /// written is left alone (the cache is an optimisation). Calls are serialised in the process, so
 /// that two renderers never measure at once. Throws Error(InvalidArgument) for a forced value that
-/// is not a candidate.
+/// is not a candidate, or a request without a name of [a-z0-9_], candidates of one word, key
+/// fields of one word or a measure.
 TuneResult tune(const TuneRequest& request, const TuneSettings& settings);
 
 /// FNV-1a (64 bits) of `text` as 16 hex digits: the same from every build and machine (std::hash

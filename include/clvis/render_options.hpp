@@ -110,7 +110,7 @@ struct RasterMappingChoice {
     /// "option" (RenderOptions named it), "forced" (Auto, CLVIS_TUNE_RASTER_MAPPING), "cache" (Auto,
     /// an earlier measurement) or "measured" (Auto, measured by this Renderer)
     std::string source = "option";
-    /// Auto's measurement (ms on the tuning workload's fine stage; -1 when not measured)
+    /// Auto's measurement (the fastest frame of the tuning workload, host wall ms; -1 when not measured)
     double square_ms = -1, pixel_ms = -1;
 };
 
