@@ -157,7 +157,7 @@ static int4 hits_boxes(__global const clvis_bvh4_node* n, __global const clvis_i
     float4 loy = vload4(0, n->lo_y), hiy = vload4(0, n->hi_y);
     float4 loz = vload4(0, n->lo_z), hiz = vload4(0, n->hi_z);
 #ifdef CLVIS_INSTANCES
-    if (xi && xi->transformed) {
+    if (xi) {
         float w[24];
         world_boxes(n, xi, w);
         lox = vload4(0, w), loy = vload4(1, w), loz = vload4(2, w);
@@ -206,9 +206,9 @@ static void clvis_prefetch_child(__global const clvis_bvh4_node* nodes, __global
 /* The walk: children that the ray meets are pushed far to near (closest: by entry distance) as
    (node << 2 | slot) with their entry distance, and popped while they may still hold a hit
    before the nearest so far. With CLVIS_INSTANCES each entry also remembers its instance (or the
-   top level), a top-level leaf enters its instances (the first at once, the others pushed as
-   CLVIS_ENTER_INSTANCE entries at the leaf's entry distance), and boxes and triangles of an
-   instance are tested in world space. */
+   top level, or the plain meshes' flat tree), a top-level leaf enters its instances (the first
+   at once, the others pushed as CLVIS_ENTER_INSTANCE entries at the leaf's entry distance), and
+   boxes and triangles of an instance are tested in world space. */
 static void walk(__global const clvis_bvh4_node* nodes, __global const clvis_bvh_tri* tris,
                  __global const clvis_instance* instances, clvis_ray_rec r, answer* a)
 {
@@ -258,7 +258,7 @@ static void walk(__global const clvis_bvh4_node* nodes, __global const clvis_bvh
             inst = stack_inst[sp];
             xi = inst < CLVIS_INST_TOP ? instances + inst : 0;
             if (ref == CLVIS_ENTER_INSTANCE) {
-                node = xi->root;
+                node = clvis_enter_instance(instances, inst, &inst, &xi);
                 break;
             }
 #endif

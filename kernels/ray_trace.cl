@@ -448,7 +448,7 @@ static void trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int 
             uint e = stack[--sp];
             inst = stack_inst[sp];
             xi = inst < CLVIS_INST_TOP ? instances + inst : 0;
-            if (e == CLVIS_ENTER_INSTANCE) { node = xi->root; break; }
+            if (e == CLVIS_ENTER_INSTANCE) { node = clvis_enter_instance(instances, inst, &inst, &xi); break; }
             __global const clvis_bvh4_node* nd = nodes + (e >> 2);
             uint k = e & 3;
             if (or_lanes(CLVIS_HITS_BOX(nd, (int)k)) >= 0) continue; /* no lane's sign bit */

@@ -353,3 +353,38 @@ TEST_CASE("a refit follows moved vertices with the same topology", "[bvh]")
     CHECK(bvh.nodes[0].lo_x == Approx(1.0f));
     CHECK(bvh.nodes[0].hi_x == Approx(5.0f));
 }
+
+TEST_CASE("full leaves pack 64 triangles into 16 leaves of 4 under five 4-wide nodes", "[bvh]")
+{
+    Mesh same; // every centroid in one point: the split still goes by whole leaves
+    for (std::uint32_t i = 0; i < 64; ++i) {
+        same.positions.insert(same.positions.end(), {0, 0, 0, 1, 0, 0, 0, 1, 0});
+        same.indices.insert(same.indices.end(), {3 * i, 3 * i + 1, 3 * i + 2});
+    }
+    std::vector<std::pair<std::string, Mesh>> meshes;
+    meshes.emplace_back("soup", soup(64, 5));
+    meshes.emplace_back("one point", same);
+    for (auto& [name, mesh] : meshes) {
+        INFO(name);
+        BvhBuildOptions o;
+        o.max_leaf_size = 4;
+        o.full_leaves = true;
+        Bvh bvh = build(mesh, o);
+        CHECK(check_invariants(bvh, mesh, 4) == 0);
+        CHECK(bvh.leaves == 16);
+        Bvh4 wide = collapse_bvh4(bvh, true);
+        CHECK(check_wide(wide, bvh) == 0);
+        CHECK(wide.nodes.size() == 5);
+    }
+    Mesh big = soup(3000, 9);
+    BvhBuildOptions o;
+    o.max_leaf_size = 4;
+    o.full_leaves = true;
+    Bvh bvh = build(big, o);
+    CHECK(check_invariants(bvh, big, 4) == 0);
+    CHECK(bvh.leaves < 3000 / 4 + 3000 / 100); // nearly all leaves full
+    Bvh4 wide = collapse_bvh4(bvh, true), plain = collapse_bvh4(bvh);
+    CHECK(check_wide(wide, bvh) == 0);
+    INFO(wide.nodes.size() << " 4-wide nodes aligned, " << plain.nodes.size() << " not");
+    CHECK(wide.nodes.size() < bvh.leaves / 3 + bvh.leaves / 30); // nearly all full
+}

@@ -296,7 +296,9 @@ TEST_CASE("each instance adds a few dozen bytes of BVH on the device", "[device]
     std::uint64_t few = bytes(4), many = bytes(404);
     double per_instance = double(many - few) / 400;
     INFO("bytes: " << few << " for 4 instances, " << many << " for 404");
-    CHECK(per_instance < 128);        // a 64-byte instance and its share of the top level's nodes
+    // a 56-byte instance and its share of the top level's nodes (one box per full leaf of four,
+    // nearly full 4-wide nodes): 67 here
+    CHECK(per_instance < 72);
     CHECK(few > 48 * spot.triangle_count()); // the prototype's tree, stored once
 }
 

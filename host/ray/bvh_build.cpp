@@ -8,6 +8,7 @@
 #include "ray/bvh_build.hpp"
 
 #include "ray/bvh_box.hpp"
+#include "ray/bvh_full.hpp"
 
 #include <algorithm>
 #include <cfloat>
@@ -175,6 +176,13 @@ public:
         bool centroids_apart = false;
         for (int a = 0; a < 3; ++a) centroids_apart |= r.cbox.hi[a] > r.cbox.lo[a];
         bool must_split = n > std::uint32_t(opt_.max_leaf_size);
+        if (opt_.full_leaves) {
+            if (!must_split) return false;
+            if (n <= full_sweep * std::uint32_t(opt_.max_leaf_size)) {
+                split_full(r, left, right);
+                return true;
+            }
+        }
         if (!centroids_apart) {
             if (!must_split) return false;
             split_in_order(r, left, right);
@@ -325,6 +333,25 @@ private:
         left.end = i;
         right.begin = i;
         right.end = r.end;
+    }
+
+    /// With full_leaves, ranges of up to this many leaves split by split_full (larger ones by the
+    /// binned SAH, as without).
+    static constexpr std::uint32_t full_sweep = 256;
+
+    /// full_leaves_split (bvh_full.hpp) on `r`.
+    void split_full(const Range& r, Range& left, Range& right) const
+    {
+        auto less = [](int a) {
+            return [a](const Prim& x, const Prim& y) {
+                float cx = centroid(x.box())[a], cy = centroid(y.box())[a];
+                return cx < cy || (cx == cy && x.id() < y.id());
+            };
+        };
+        std::size_t k = full_leaves_split(prims_.begin() + r.begin, prims_.begin() + r.end,
+                                          std::size_t(opt_.max_leaf_size), [](const Prim& p) { return p.box().box(); }, less);
+        bounds(r.begin, r.begin + std::uint32_t(k), left);
+        bounds(r.begin + std::uint32_t(k), r.end, right);
     }
 
     void split_in_order(const Range& r, Range& left, Range& right) const

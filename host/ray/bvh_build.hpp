@@ -23,6 +23,11 @@ enum class BvhSplit {
 struct BvhBuildOptions : BvhOptions {
     BvhSplit split = BvhSplit::Sah;
     unsigned threads = 0;    ///< worker threads; 0: the machine's hardware threads
+    /// Every range of at most max_leaf_size becomes a leaf, and ranges of up to 256 leaves split
+    /// where the left side is a whole number of full leaves, of groups of 4 of them past 4
+    /// leaves, of 16 past 16...: with collapse_bvh4's `aligned`, nearly every 4-wide node is full,
+    /// as the instances' top level wants it (bvh_instances.cpp).
+    bool full_leaves = false;
 };
 
 /// Depth (nodes on a root-to-leaf path) past which the build splits at the median, so that a
@@ -47,8 +52,10 @@ struct Bvh4 {
 
 /// Collapses `bvh`: each 4-wide node takes a binary node's children and opens the largest
 /// interior ones until it holds four (Wald et al., "Getting rid of packets", 2008). The leaves and
-/// triangle slots stay those of `bvh`.
-Bvh4 collapse_bvh4(const Bvh& bvh);
+/// triangle slots stay those of `bvh`. `aligned` (a tree built with full_leaves): a node of m
+/// leaves opens only children of more than c leaves, c the largest power of 4 below m, so that
+/// each group of 4^k leaves the build made becomes one full 4-wide subtree.
+Bvh4 collapse_bvh4(const Bvh& bvh, bool aligned = false);
 
 /// Copies the boxes of a refitted `bvh` into the 4-wide nodes collapsed from it (same grouping).
 void refit_bvh4(Bvh4& wide, const Bvh& bvh);

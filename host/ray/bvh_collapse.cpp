@@ -14,8 +14,12 @@ namespace {
 constexpr float inf = std::numeric_limits<float>::infinity();
 
 /// Appends the 4-wide node for binary node `n` (interior) and its subtree; returns its depth.
-int collapse(const Bvh& bvh, std::uint32_t n, Bvh4& out)
+/// `leaves` (aligned collapse only, else empty): per binary node, the leaves below it.
+int collapse(const Bvh& bvh, std::uint32_t n, const std::vector<std::uint32_t>& leaves, Bvh4& out)
 {
+    std::uint32_t cap = 0; // aligned: children of at most `cap` leaves stay closed
+    if (!leaves.empty())
+        for (cap = 1; 4 * cap < leaves[n];) cap *= 4;
     std::uint32_t kids[4] = {n + 1, bvh.nodes[n].first, 0, 0};
     int count = 2;
     while (count < 4) {
@@ -23,7 +27,7 @@ int collapse(const Bvh& bvh, std::uint32_t n, Bvh4& out)
         double largest = -1;
         for (int k = 0; k < count; ++k) {
             const clvis_bvh_node& c = bvh.nodes[kids[k]];
-            if (c.count == 0 && node_area(c) > largest) {
+            if (c.count == 0 && node_area(c) > largest && (cap == 0 || leaves[kids[k]] > cap)) {
                 largest = node_area(c);
                 open = k;
             }
@@ -58,7 +62,7 @@ int collapse(const Bvh& bvh, std::uint32_t n, Bvh4& out)
             w.child[k] = c.first;
         } else {
             std::uint32_t index = std::uint32_t(out.nodes.size());
-            int d = collapse(bvh, kids[k], out); // may move out.nodes: w is not used after this
+            int d = collapse(bvh, kids[k], leaves, out); // may move out.nodes: w is not used after this
             out.nodes[self].child[k] = index;
             depth = std::max(depth, d + 1);
         }
@@ -68,7 +72,7 @@ int collapse(const Bvh& bvh, std::uint32_t n, Bvh4& out)
 
 } // namespace
 
-Bvh4 collapse_bvh4(const Bvh& bvh)
+Bvh4 collapse_bvh4(const Bvh& bvh, bool aligned)
 {
     Bvh4 out;
     if (bvh.nodes.empty()) return out;
@@ -90,7 +94,15 @@ Bvh4 collapse_bvh4(const Bvh& bvh)
         out.depth = 1;
         return out;
     }
-    out.depth = collapse(bvh, 0, out);
+    std::vector<std::uint32_t> leaves;
+    if (aligned) { // depth-first: children after their parent, so one backward pass
+        leaves.resize(bvh.nodes.size());
+        for (std::size_t i = bvh.nodes.size(); i-- > 0;) {
+            const clvis_bvh_node& b = bvh.nodes[i];
+            leaves[i] = b.count > 0 ? 1 : leaves[i + 1] + leaves[b.first];
+        }
+    }
+    out.depth = collapse(bvh, 0, leaves, out);
     return out;
 }
 

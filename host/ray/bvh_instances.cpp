@@ -113,8 +113,7 @@ void InstanceBvh::build_top(const Scene& scene, const BvhBuildOptions& options)
     };
     float lo[3], hi[3];
     if (!plain_.bvh.nodes.empty()) {
-        clvis_instance e{};
-        e.m[0] = e.m[5] = e.m[10] = 1.0f;
+        clvis_instance e{}; // walked as a flat tree: no matrix, global ids
         root_box(plain_.bvh, lo, hi);
         add(e, no_tree, lo, hi);
     }
@@ -125,7 +124,6 @@ void InstanceBvh::build_top(const Scene& scene, const BvhBuildOptions& options)
         auto matrix = instance_matrix(m.transform);
         std::copy(matrix.begin(), matrix.end(), e.m);
         e.first_id = m.first_triangle;
-        e.transformed = 1;
         float olo[3], ohi[3];
         root_box(prototypes_[m.prototype].bvh, olo, ohi);
         clvis_instance_box(e.m, olo, ohi, lo, hi);
@@ -139,8 +137,9 @@ void InstanceBvh::build_top(const Scene& scene, const BvhBuildOptions& options)
     for (std::uint32_t e = 0; e < entries_.size(); ++e) indices.insert(indices.end(), {2 * e, 2 * e + 1, 2 * e});
     BvhBuildOptions o = options;
     o.max_leaf_size = top_leaf_size;
+    o.full_leaves = true; // leaves of four entries: a quarter of the top level's boxes
     top_ = build_bvh(corners.data(), indices.data(), entries_.size(), o);
-    top_wide_ = collapse_bvh4(top_);
+    top_wide_ = collapse_bvh4(top_, true);
 }
 
 void InstanceBvh::assemble()
@@ -173,7 +172,7 @@ void InstanceBvh::assemble()
     for (const clvis_bvh_tri& slot : top_.tris) {
         clvis_instance e = entries_[slot.id];
         std::size_t tree = entry_tree_[slot.id];
-        e.root = tree == no_tree ? plain_root : roots[tree];
+        e.tree = tree == no_tree ? plain_root | CLVIS_INSTANCE_PLAIN : roots[tree];
         instances_.push_back(e);
     }
     depth_ = top_.depth + bottom_depth;

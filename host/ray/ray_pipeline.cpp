@@ -19,7 +19,7 @@ namespace clvis::detail {
 static_assert(sizeof(clvis_bvh_node) == 32, "layout shared with kernels/shared/bvh.h");
 static_assert(sizeof(clvis_bvh4_node) == 128, "layout shared with kernels/shared/bvh.h");
 static_assert(sizeof(clvis_bvh_tri) == 48, "layout shared with kernels/shared/bvh.h");
-static_assert(sizeof(clvis_instance) == 64, "layout shared with kernels/shared/instance.h");
+static_assert(sizeof(clvis_instance) == 56, "layout shared with kernels/shared/instance.h");
 
 namespace {
 
@@ -119,7 +119,8 @@ struct RayPipeline::Impl {
 
     static void check_nodes(std::size_t count)
     {
-        // (2^30 - 1): a stack entry of all ones enters an instance (shared/instance.h)
+        // (2^30 - 1): a stack entry of all ones enters an instance, and a root's top bit marks the
+        // plain meshes' entry (shared/instance.h)
         if (count >= (std::size_t(1) << 30) - 1)
             throw Error(Error::Kind::Limit, "the BVH's " + std::to_string(count) + " nodes exceed the ray kernel's 2^30 - 1");
     }

@@ -10,17 +10,18 @@
 #include "shared/bvh.h"
 #include "shared/types.h"
 
-/* One instance of the ray path's two-level BVH as the device reads it: 64 bytes. Its prototype's
-   tree sits in the shared node and triangle arrays from node `root`, its triangles' ids local
-   (0, 1, ...). The plain meshes of the scene form one more entry, not transformed: their vertices
-   are world-space and their ids global (first_id 0). */
+/* One entry of the ray path's two-level BVH as the device reads it: 56 bytes. An instance's
+   prototype tree sits in the shared node and triangle arrays from node `tree`, its triangles' ids
+   local (0, 1, ...). The plain meshes of the scene form one more entry, `tree` marked with
+   CLVIS_INSTANCE_PLAIN: their vertices are world-space and their ids global, so their tree is
+   walked as a flat tree (no record, matrix and first_id unused). */
 typedef struct clvis_instance {
     float m[12];              /* rows 0-2 of the transform, float32 */
     clvis_u32 first_id;       /* added to each triangle's stored id */
-    clvis_u32 root;           /* the tree's root: a 4-wide node */
-    clvis_u32 transformed;    /* 0: vertices and boxes are world-space already (the plain meshes) */
-    clvis_u32 pad;
+    clvis_u32 tree;           /* the tree's root (a 4-wide node), | CLVIS_INSTANCE_PLAIN for the plain meshes */
 } clvis_instance;
+
+#define CLVIS_INSTANCE_PLAIN 0x80000000u
 
 #ifdef __OPENCL_C_VERSION__
 #define CLVIS_GLOBAL __global
@@ -75,7 +76,7 @@ static inline void clvis_instance_box(CLVIS_INSTANCE_MATRIX m, const float lo[3]
 }
 
 /* The world-space vertices (v0, v1, v2) of leaf triangle t of instance xi (none: the flat BVH of
-   a scene without instances) and its id. */
+   a scene without instances, or the plain meshes' tree) and its id. */
 static inline clvis_u32 clvis_instance_triangle(CLVIS_GLOBAL const clvis_bvh_tri* t, CLVIS_GLOBAL const clvis_instance* xi,
                                                 float v[9])
 {
@@ -83,22 +84,19 @@ static inline clvis_u32 clvis_instance_triangle(CLVIS_GLOBAL const clvis_bvh_tri
     v[3] = t->v1_x; v[4] = t->v1_y; v[5] = t->v1_z;
     v[6] = t->v2_x; v[7] = t->v2_y; v[8] = t->v2_z;
     if (!xi) return t->id;
-    if (xi->transformed) {
-        for (int k = 0; k < 9; k += 3) {
-            clvis_vec3 w = clvis_instance_point(xi->m, v[k], v[k + 1], v[k + 2]);
-            v[k] = w.x; v[k + 1] = w.y; v[k + 2] = w.z;
-        }
+    for (int k = 0; k < 9; k += 3) {
+        clvis_vec3 w = clvis_instance_point(xi->m, v[k], v[k + 1], v[k + 2]);
+        v[k] = w.x; v[k + 1] = w.y; v[k + 2] = w.z;
     }
     return t->id + xi->first_id;
 }
 
-/* The world-space box of child k of 4-wide node n in instance xi (none, or not transformed: the
-   node's own box). */
+/* The world-space box of child k of 4-wide node n in instance xi (none: the node's own box). */
 static inline void clvis_instance_child_box(CLVIS_GLOBAL const clvis_bvh4_node* n, int k,
                                             CLVIS_GLOBAL const clvis_instance* xi, float lo[3], float hi[3])
 {
     float l[3] = {n->lo_x[k], n->lo_y[k], n->lo_z[k]}, h[3] = {n->hi_x[k], n->hi_y[k], n->hi_z[k]};
-    if (xi && xi->transformed) {
+    if (xi) {
         clvis_instance_box(xi->m, l, h, lo, hi);
         return;
     }
@@ -116,8 +114,21 @@ static inline void clvis_instance_child_box(CLVIS_GLOBAL const clvis_bvh4_node* 
 /* A stack entry that enters the instance stored beside it. */
 #define CLVIS_ENTER_INSTANCE 0xFFFFFFFFu
 
-/* Enters the instances of top-level leaf (nd, k): the first now (inst, xi), the others pushed as
-   entries CLVIS_ENTER_INSTANCE beside their index. Returns the first one's root node. */
+/* Enters top-level entry j: instance j (inst j, xi its record), or the plain meshes' tree (walked
+   as the flat tree: inst CLVIS_INST_FLAT, no record). Returns the tree's root node. */
+static inline clvis_u32 clvis_enter_instance(CLVIS_GLOBAL const clvis_instance* instances, clvis_u32 j, clvis_u32* inst,
+                                             CLVIS_GLOBAL const clvis_instance** xi)
+{
+    clvis_u32 tree = instances[j].tree;
+    int plain = (tree & CLVIS_INSTANCE_PLAIN) != 0u;
+    *inst = plain ? CLVIS_INST_FLAT : j;
+    *xi = plain ? 0 : instances + j;
+    return tree & ~CLVIS_INSTANCE_PLAIN;
+}
+
+/* Enters the entries of top-level leaf (nd, k) (up to four): the first now (inst, xi), the others
+   pushed as stack entries CLVIS_ENTER_INSTANCE beside their index. Returns the first one's root
+   node. */
 static inline clvis_u32 clvis_enter_instances(CLVIS_GLOBAL const clvis_bvh4_node* nd, int k,
                                               CLVIS_GLOBAL const clvis_instance* instances, clvis_u32* stack,
                                               clvis_u32* stack_inst, clvis_u32* sp, clvis_u32* inst,
@@ -128,9 +139,7 @@ static inline clvis_u32 clvis_enter_instances(CLVIS_GLOBAL const clvis_bvh4_node
         stack[*sp] = CLVIS_ENTER_INSTANCE;
         stack_inst[(*sp)++] = first + j;
     }
-    *inst = first;
-    *xi = instances + first;
-    return instances[first].root;
+    return clvis_enter_instance(instances, first, inst, xi);
 }
 
 #endif
