@@ -426,13 +426,7 @@ static void trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int 
                 if (!(child_bits & (1 << k))) continue;
                 float d = (nd->lo_x[k] + nd->hi_x[k]) * p.cx + (nd->lo_y[k] + nd->hi_y[k]) * p.cy +
                           (nd->lo_z[k] + nd->hi_z[k]) * p.cz;
-                uint i = hits++;
-                for (; i > 0 && along[i - 1] > d; --i) {
-                    order[i] = order[i - 1];
-                    along[i] = along[i - 1];
-                }
-                order[i] = (uint)k;
-                along[i] = d;
+                clvis_insert_child(order, along, &hits, (uint)k, d);
             }
             node = CLVIS_RAY_NONE;
             if (hits > 0) {

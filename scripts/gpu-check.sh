@@ -3,10 +3,12 @@
 # Ubuntu 24.04, PoCL 5 and NVIDIA's OpenCL installed, no OpenImageIO, Embree, Mesa or network):
 #   1. registers NVIDIA's OpenCL driver beside the installed ICDs (it ships unregistered there);
 #   2. builds clvis without the image layer and the reference renderers (what that machine lacks);
-#   3. runs the device suite, the agreement suite and the raster-rule and tile-ownership checks
-#      on each device found: NVIDIA's GPU, then PoCL's CPU device (all cores);
+#   3. runs the device suite (the mapping tests among it), the agreement suite, the raster-rule and
+#      tile-ownership checks and both ray mappings (packet, single) on each device found: NVIDIA's
+#      GPU, then PoCL's CPU device (all cores);
 #   4. runs `clvis bench --quick` on each, clvis against itself only (no reference renderer there),
-#      and 1080p renders of both paths and of both raster mappings (Auto's choice in devices-tuned.txt).
+#      and 1080p renders of both paths, of both raster mappings (Auto's choice in devices-tuned.txt)
+#      and of both ray mappings.
 # Writes everything under $OUT (default gpu-check-out/): clinfo, test logs, bench.json / .csv per
 # device, and summary.txt (one line per step with its exit status and seconds). Exits non-zero
 # when any step failed; every step runs regardless, so one run reports everything.
@@ -74,15 +76,19 @@ for dev in "${devices[@]}"; do
             "$build/tests/clvis_tests" "[agree][slow]" --durations yes
         step "raster rule, tile ownership, regions on $dev" "$out/modes-$tag.log" \
             "$build/tests/clvis_tests" "[rule],[raster_atomics],[region]" --durations yes
+        step "ray mappings (packet, single) on $dev" "$out/ray-mapping-$tag.log" \
+            "$build/tests/clvis_tests" "the single mapping*" --durations yes
         step "float-only exact fallback on $dev" "$out/exact-float-$tag.log" env CLVIS_EXACT_FLOAT=1 \
-            "$build/tests/clvis_tests" "a plane face-on*,triangles seen edge-on*,rays aimed exactly at shared edges*"
+            "$build/tests/clvis_tests" "a plane face-on*,triangles seen edge-on*,rays aimed exactly at shared edges*,the single mapping gives the packet mapping's keys where the exact fallback runs"
     fi
     step "clvis bench --quick on $dev" "$out/bench-$tag.log" \
         "$build/clvis" bench --quick --no-plot --device "$dev" --out "$out/bench-$tag"
-    for path in raster ray; do
-        step "clvis render bunny 1920x1080 $path on $dev" "$out/render-$path-$tag.log" \
-            "$build/clvis" render scenes/stanford-bunny.obj --path "$path" --width 1920 --height 1080 \
-            --repeat 20 --timings --json --device "$dev"
+    for run in raster ray:packet ray:single; do
+        path=${run%%:*} mapping=()
+        [ "$path" = "$run" ] || mapping=(--ray-mapping "${run#*:}")
+        step "clvis render bunny 1920x1080 $run on $dev" "$out/render-${run/:/-}-$tag.log" \
+            "$build/clvis" render scenes/stanford-bunny.obj --path "$path" "${mapping[@]}" --width 1920 \
+            --height 1080 --repeat 20 --timings --json --device "$dev"
     done
     # The raster fine stage's two mappings at 1080p, against Auto's choice in the render above.
     for mapping in square pixel; do

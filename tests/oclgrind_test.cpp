@@ -283,3 +283,23 @@ TEST_CASE("the two-level walk of instances runs clean on Oclgrind in both covera
         check_on_grind(pocl, inst, Path::Ray, o);
     }
 }
+
+TEST_CASE("ray_trace_single runs clean on Oclgrind in both coverage modes", "[.oclgrind]")
+{
+    // ray_trace_single.cl on a plain scene and on instances (the two-level walk), a group per tile
+    // with the last row and column of groups partly outside the image; keys as PoCL's packets.
+    Device pocl = Device::open("portable computing language");
+    Case c = std::move(cases().front());
+    Case inst{c.name + " instanced", plain_and_instanced(c.scene.data_of(0)), c.camera, c.width, c.height};
+    for (const Case* k : {&c, &inst}) {
+        for (Coverage coverage : {Coverage::Watertight, Coverage::RasterRule}) {
+            RenderOptions single, packet;
+            single.coverage = packet.coverage = coverage;
+            single.ray_mapping = RayMapping::Single;
+            INFO(k->name << ", " << to_string(coverage));
+            Renderer on_grind(Device::open("oclgrind"), k->scene, single), on_pocl(pocl, k->scene, packet);
+            CHECK(on_grind.render(k->camera, k->width, k->height, Path::Ray).read_keys() ==
+                  on_pocl.render(k->camera, k->width, k->height, Path::Ray).read_keys());
+        }
+    }
+}

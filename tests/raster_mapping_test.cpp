@@ -23,13 +23,6 @@ Device& device()
     return d;
 }
 
-Scene mesh_scene(const char* file)
-{
-    Scene s;
-    s.add_mesh(load_mesh(std::string(CLVIS_SOURCE_DIR) + "/scenes/" + file));
-    return s;
-}
-
 std::vector<std::uint64_t> keys_of(Device& d, const Scene& s, const Camera& c, int w, int h, RenderOptions o,
                                    RasterMapping mapping)
 {
@@ -66,8 +59,8 @@ void check_same(Device& d, const Scene& s, const Camera& c, int w, int h, Render
 
 TEST_CASE("the pixel mapping gives the square mapping's keys on meshes", "[device][raster]")
 {
-    Scene bunny = mesh_scene("stanford-bunny.obj");
-    Scene spot = mesh_scene("spot.obj");
+    Scene bunny = test::scene_file("stanford-bunny.obj");
+    Scene spot = test::scene_file("spot.obj");
     Camera on_bunny = test::look({-0.02, 0.11, 0.25}, {-0.02, 0.1, 0}, 45, 0.01, 10);
     Camera on_spot = test::look({1.6, 0.9, 2.2}, {0, 0.3, 0}, 40, 0.1, 20);
     RenderOptions o;
@@ -83,7 +76,7 @@ TEST_CASE("the pixel mapping gives the square mapping's keys on meshes", "[devic
 
 TEST_CASE("the pixel mapping gives the square mapping's keys per sample and region", "[device][raster]")
 {
-    Scene spot = mesh_scene("spot.obj");
+    Scene spot = test::scene_file("spot.obj");
     Camera c = test::look({1.6, 0.9, 2.2}, {0, 0.3, 0}, 40, 0.1, 20);
     RenderOptions o;
     o.samples = 4;

@@ -4,6 +4,7 @@
 #include <clvis/camera.hpp>
 #include <clvis/host_visibility.hpp>
 #include <clvis/scene.hpp>
+#include <clvis/scene_io.hpp>
 
 #include <cmath>
 #include <cstddef>
@@ -40,6 +41,14 @@ inline MeshData triangle(float ax, float ay, float az, float bx, float by, float
     m.positions = {ax, ay, az, bx, by, bz, cx, cy, cz};
     m.indices = {0, 1, 2};
     return m;
+}
+
+/// scenes/<file> of the source tree as a scene of one mesh.
+inline Scene scene_file(const std::string& file)
+{
+    Scene s;
+    s.add_mesh(load_mesh(std::string(CLVIS_SOURCE_DIR) + "/scenes/" + file));
+    return s;
 }
 
 /// Pixels that hold a triangle.

@@ -28,7 +28,7 @@ struct RenderArgs {
     SceneInput scene;
     CameraOptions camera;
     DeviceOptions device;
-    std::string path = "raster", raster_mapping = "auto"; ///< raster_mapping: RenderOptions::raster_mapping
+    std::string path = "raster", raster_mapping = "auto", ray_mapping = "packet"; ///< RenderOptions' mappings
     std::string ids, depth, image, shade = "lambert", cull = "none", raster_atomics = "auto";
     std::string coverage = "watertight"; ///< the ray paths' inside test (RenderOptions::coverage)
     std::string bary, normals, position; ///< attributes resolved from the buffer (EXR)
@@ -303,17 +303,10 @@ nlohmann::json compare_paths(const SceneFile& file, const Camera& camera, const 
                   rep.depth_explained, rep.depth_errors, rep.depth_errors_a, rep.depth_errors_b);
     say(buf);
     for (const auto& e : rep.first_errors) say("  " + e.describe());
-    return {{"pixels", rep.pixels},
-            {"equal", rep.equal},
-            {"explained", rep.explained},
-            {"errors", rep.errors},
-            {"errors_raster", rep.errors_a},
-            {"errors_ray", rep.errors_b},
-            {"depths", {{"equal", rep.depth_equal},
-                        {"explained", rep.depth_explained},
-                        {"errors", rep.depth_errors},
-                        {"errors_raster", rep.depth_errors_a},
-                        {"errors_ray", rep.depth_errors_b}}}};
+    nlohmann::json depths = {{"equal", rep.depth_equal}, {"explained", rep.depth_explained}, {"errors", rep.depth_errors},
+                             {"errors_raster", rep.depth_errors_a}, {"errors_ray", rep.depth_errors_b}};
+    return {{"pixels", rep.pixels}, {"equal", rep.equal}, {"explained", rep.explained}, {"errors", rep.errors},
+            {"errors_raster", rep.errors_a}, {"errors_ray", rep.errors_b}, {"depths", depths}};
 }
 
 nlohmann::json path_json(const PathResult& r)
@@ -342,6 +335,7 @@ nlohmann::json render_json(const RenderArgs& a, const SceneFile& file, const Cam
     j["raster_atomics"] = a.raster_atomics != "auto" ? a.raster_atomics : device.int64_atomics ? "on" : "off";
     bool raster = std::any_of(results.begin(), results.end(), [](const PathResult& r) { return r.path == Path::Raster; });
     add_raster_mapping_json(j, raster ? &renderer : nullptr, a.raster_mapping);
+    j["ray_mapping"] = a.ray_mapping;
     j["load_ms"] = load_ms;
     j["warm_up"] = a.repeat > 0 || a.timings;
     j["camera"] = camera.to_flags();
@@ -363,6 +357,7 @@ RenderOptions render_options(const RenderArgs& a)
     options.cull = a.cull == "back" ? Cull::Back : a.cull == "front" ? Cull::Front : Cull::None;
     options.raster_atomics = raster_atomics_from_string(a.raster_atomics);
     options.raster_mapping = raster_mapping_from_string(a.raster_mapping);
+    options.ray_mapping = ray_mapping_from_string(a.ray_mapping);
     options.bvh.max_leaf_size = a.leaf;
     options.coverage = coverage_from_string(a.coverage);
     options.samples = a.samples;
@@ -477,6 +472,9 @@ void add_render_command(CLI::App& app)
     cmd->add_option("--raster-mapping", args->raster_mapping,
                     "raster fine stage: square (CPUs), pixel (GPUs) or auto (measured per device, cached); same keys")
         ->check(CLI::IsMember({"auto", "square", "pixel"}));
+    cmd->add_option("--ray-mapping", args->ray_mapping,
+                    "ray path: packet (a work-item per 4x4 rays, CPUs) or single (a work-item per ray, GPUs); same keys")
+        ->check(CLI::IsMember({"packet", "single"}));
     cmd->add_option("--leaf-size", args->leaf, "BVH: triangles per leaf at most");
     args->spread.add_to(*cmd);
     cmd->add_option("--coverage", args->coverage,

@@ -1,7 +1,9 @@
 // The ray path: builds the BVH on the host (bvh_build.cpp), keeps it resident on the device,
-// follows moved vertices by refit or rebuild, and enqueues one trace per frame: ray_trace.cl
-// through the BVH, or ray_brute.cl against every triangle, each built for RenderOptions::coverage
-// (the watertight test, or CLVIS_RASTER_RULE: the raster path's predicate).
+// follows moved vertices by refit or rebuild, and enqueues one trace per frame: through the BVH by
+// RenderOptions::ray_mapping (ray_trace.cl, a work-item per 4x4 packet; ray_trace_single.cl, a
+// work-item per pixel and a work-group per tile: the same keys), or ray_brute.cl against every
+// triangle, each built for RenderOptions::coverage (the watertight test, or CLVIS_RASTER_RULE: the
+// raster path's predicate).
 #include "render/pipeline.hpp"
 
 #include "ray/bvh_build.hpp"
@@ -33,6 +35,11 @@ constexpr int stack_step = 16;
 /// (whose private stacks and packets no longer stay in cache).
 constexpr std::array<std::array<std::size_t, 2>, 5> group_choices{{{4, 4}, {4, 2}, {2, 2}, {2, 1}, {1, 1}}};
 
+/// Rays per work-group of ray_trace_single.cl that the tile aims at (two 32-wide SIMD groups), or
+/// the kernel's preferred multiple where larger; the kernel's grant and the device's item sizes
+/// cap it.
+constexpr std::size_t single_group_items = 64;
+
 /// The build option that selects the coverage mode of ray_trace.cl and ray_brute.cl.
 std::string coverage_define(Coverage coverage)
 {
@@ -49,6 +56,7 @@ double ms_since(std::chrono::steady_clock::time_point t0)
 struct RayPipeline::Impl {
     Device::Impl& device;
     RenderOptions options;
+    bool single; ///< RayMapping::Single: ray_trace_single.cl, a work-item per pixel
     cl::Kernel trace, trace_views, brute;
     cl::NDRange trace_group, views_group, brute_group; ///< work-items per work-group
     int trace_stack = 0;                  ///< CLVIS_RAY_STACK of the built trace kernel
@@ -63,7 +71,9 @@ struct RayPipeline::Impl {
     InstanceBvh levels;
     cl::Buffer level_nodes, level_tris, instances;
 
-    Impl(Device::Impl& d, const RenderOptions& o) : device(d), options(o) {}
+    Impl(Device::Impl& d, const RenderOptions& o) : device(d), options(o), single(o.ray_mapping == RayMapping::Single)
+    {
+    }
 
     /// The first preferred work-group that `kernel` may run: what CL_KERNEL_WORK_GROUP_SIZE grants.
     cl::NDRange pick_group(const cl::Kernel& kernel) const
@@ -78,6 +88,33 @@ struct RayPipeline::Impl {
                                             " (work-group size " + std::to_string(max_group) + ")");
     }
 
+    /// The tile of pixels a work-group of ray_trace_single.cl traces: single_group_items rays (or
+    /// the kernel's preferred multiple), within what CL_KERNEL_WORK_GROUP_SIZE grants and the
+    /// device's item sizes allow, grown in powers of two, x first, as square as they allow.
+    cl::NDRange pick_tile(const cl::Kernel& kernel) const
+    {
+        std::size_t grant = kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device.device);
+        std::size_t multiple = kernel.getWorkGroupInfo<CL_KERNEL_PREFERRED_WORK_GROUP_SIZE_MULTIPLE>(device.device);
+        auto item_sizes = device.device.getInfo<CL_DEVICE_MAX_WORK_ITEM_SIZES>();
+        std::size_t items = std::min(grant, std::max(single_group_items, multiple)), gx = 1, gy = 1;
+        while (gx * gy * 2 <= items) {
+            bool wider = gx * 2 <= item_sizes.at(0), taller = gy * 2 <= item_sizes.at(1);
+            if (wider && (gx <= gy || !taller)) gx *= 2;
+            else if (taller) gy *= 2;
+            else break;
+        }
+        return cl::NDRange(gx, gy);
+    }
+
+    /// The work-items of a trace launch along x and y for `width` x `height` pixels: a pixel
+    /// each (single) or a packet each, rounded up to whole groups of `g`.
+    cl::NDRange trace_items(int width, int height, const cl::NDRange& g) const
+    {
+        std::size_t pw = single ? 1 : packet_w, ph = single ? 1 : packet_h;
+        return cl::NDRange(round_up((std::size_t(width) + pw - 1) / pw, g[0]),
+                           round_up((std::size_t(height) + ph - 1) / ph, g[1]));
+    }
+
     /// The trace kernel with a stack for the tree's depth: each 4-wide node on the current path
     /// leaves at most three children on it.
     void prepare_trace()
@@ -86,12 +123,13 @@ struct RayPipeline::Impl {
         int stack = (entries / stack_step + 1) * stack_step;
         if (stack == trace_stack) return;
         std::string define = coverage_define(options.coverage);
-        cl::Program program = device.program("ray_trace", "-DCLVIS_RAY_STACK=" + std::to_string(stack) +
-                                                               (define.empty() ? "" : " " + define));
-        trace = cl::Kernel(program, "ray_trace");
-        trace_views = cl::Kernel(program, "ray_trace_views");
-        trace_group = pick_group(trace);
-        views_group = pick_group(trace_views);
+        std::string name = single ? "ray_trace_single" : "ray_trace";
+        cl::Program program = device.program(name, "-DCLVIS_RAY_STACK=" + std::to_string(stack) +
+                                                       (define.empty() ? "" : " " + define));
+        trace = cl::Kernel(program, name.c_str());
+        trace_views = cl::Kernel(program, (name + "_views").c_str());
+        trace_group = single ? pick_tile(trace) : pick_group(trace);
+        views_group = single ? pick_tile(trace_views) : pick_group(trace_views);
         trace_stack = stack;
     }
 
@@ -276,10 +314,8 @@ void RayPipeline::Impl::render_sample(const DeviceScene& scene, Frame& frame, bo
         k.setArg(4, cl_int(cull_mode(m.options.cull)));
         k.setArg(5, frame.keys);
         k.setArg(6, sizeof frame.region, &frame.region);
-        std::size_t packets_x = (std::size_t(frame.width) + packet_w - 1) / packet_w;
-        std::size_t packets_y = (std::size_t(frame.height) + packet_h - 1) / packet_h;
-        cl::NDRange global(round_up(packets_x, g[0]), round_up(packets_y, g[1]));
-        frame.queue.enqueueNDRangeKernel(k, cl::NullRange, global, g, nullptr, &done);
+        frame.queue.enqueueNDRangeKernel(k, cl::NullRange, m.trace_items(frame.width, frame.height, g), g, nullptr,
+                                         &done);
     }
     frame.stages->add("trace", done);
 }
@@ -295,9 +331,8 @@ void RayPipeline::render_views(ViewsFrame& frame)
     k.setArg(4, cl_int(cull_mode(m.options.cull)));
     k.setArg(5, frame.keys);
     k.setArg(6, cl_ulong(frame.stride));
-    std::size_t packets_x = (std::size_t(frame.width) + packet_w - 1) / packet_w;
-    std::size_t packets_y = (std::size_t(frame.height) + packet_h - 1) / packet_h;
-    cl::NDRange global(round_up(packets_x, g[0]), round_up(packets_y, g[1]), std::size_t(frame.views));
+    cl::NDRange items = m.trace_items(frame.width, frame.height, g);
+    cl::NDRange global(items[0], items[1], std::size_t(frame.views));
     cl::Event done;
     frame.queue.enqueueNDRangeKernel(k, cl::NullRange, global, cl::NDRange(g[0], g[1], 1), nullptr, &done);
     frame.stages->add("trace", done);

@@ -1,5 +1,5 @@
-// Names of the paths, of the raster path's depth-test modes and of the coverage modes, for flags,
-// messages and reports.
+// Names of the paths, of the raster path's depth-test modes and mappings, of the ray path's
+// mappings and of the coverage modes, for flags, messages and reports.
 #include <clvis/error.hpp>
 #include <clvis/render_options.hpp>
 
@@ -42,6 +42,15 @@ const char* to_string(RasterMapping mapping) noexcept
     return "unknown";
 }
 
+const char* to_string(RayMapping mapping) noexcept
+{
+    switch (mapping) {
+    case RayMapping::Packet: return "packet";
+    case RayMapping::Single: return "single";
+    }
+    return "unknown";
+}
+
 const char* to_string(Coverage coverage) noexcept
 {
     switch (coverage) {
@@ -63,6 +72,13 @@ RasterMapping raster_mapping_from_string(const std::string& name)
     for (RasterMapping m : {RasterMapping::Auto, RasterMapping::Square, RasterMapping::Pixel})
         if (name == to_string(m)) return m;
     throw Error(Error::Kind::InvalidArgument, "unknown raster mapping '" + name + "' (auto, square or pixel)");
+}
+
+RayMapping ray_mapping_from_string(const std::string& name)
+{
+    for (RayMapping m : {RayMapping::Packet, RayMapping::Single})
+        if (name == to_string(m)) return m;
+    throw Error(Error::Kind::InvalidArgument, "unknown ray mapping '" + name + "' (packet or single)");
 }
 
 int samples_log2(int samples)

@@ -114,6 +114,18 @@ struct RasterMappingChoice {
     double square_ms = -1, pixel_ms = -1;
 };
 
+/// How the ray path's primary rays (kernels/ray_trace*.cl) map onto a device. Both give the same
+/// keys, bit for bit.
+enum class RayMapping {
+    Packet, ///< a work-item per packet of 4x4 pixels, one ray per lane of 16-wide vectors walking
+            ///< the BVH together (suits CPU devices: PoCL runs the lanes as SIMD)
+    Single, ///< a work-item per pixel, a work-group per tile of pixels, each ray walking alone (GPUs)
+};
+
+const char* to_string(RayMapping mapping) noexcept;
+/// "packet" or "single"; throws Error(InvalidArgument) otherwise.
+RayMapping ray_mapping_from_string(const std::string& name);
+
 struct RenderOptions {
     int tile_size = 0;      ///< raster tile edge in pixels (a power of two); 0 picks the default
     /// Renderer::render(camera, width, height, path) renders only this part of the image, into a
@@ -122,6 +134,7 @@ struct RenderOptions {
     Cull cull = Cull::None; ///< face culling, on every path (see Cull)
     RasterAtomics raster_atomics = RasterAtomics::Auto; ///< the raster path's depth test (see RasterAtomics)
     RasterMapping raster_mapping = RasterMapping::Auto; ///< the raster fine stage's mapping (see RasterMapping)
+    RayMapping ray_mapping = RayMapping::Packet; ///< the ray path's primary-ray mapping (see RayMapping)
     BvhOptions bvh;         ///< the ray path's tree (Path::Ray; the brute path has none)
     Coverage coverage = Coverage::Watertight; ///< the ray paths' inside test (see Coverage)
     /// Samples per pixel: 1, 2, 4, 8 or 16, at the standard positions of CONVENTIONS.md

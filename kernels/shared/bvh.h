@@ -34,4 +34,17 @@ typedef struct clvis_bvh_tri {
     clvis_u32 pad1;
 } clvis_bvh_tri;
 
+/* Inserts child k, met at distance d along a ray, among the `*hits` children of a node kept
+   nearest first in order[] and along[] (a tie keeps slot order): the ray kernels' walk order. */
+static inline void clvis_insert_child(clvis_u32 order[4], float along[4], clvis_u32* hits, clvis_u32 k, float d)
+{
+    clvis_u32 i = (*hits)++;
+    for (; i > 0 && along[i - 1] > d; --i) {
+        order[i] = order[i - 1];
+        along[i] = along[i - 1];
+    }
+    order[i] = k;
+    along[i] = d;
+}
+
 #endif

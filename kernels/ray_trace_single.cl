@@ -1,0 +1,221 @@
+/* Casts one primary ray per work-item and writes its pixel's visibility key: the ray path's
+   mapping for GPUs (RayMapping::Single; ray_trace.cl is the packet mapping for CPUs). A work-group
+   is a tile of pixels, sized by host/ray/ray_pipeline.cpp from the kernel's grant. Same kernel
+   interfaces as ray_trace.cl, same keys bit for bit: the ray is clvis_primary_ray's (the packet's
+   lanes compute the same operations), every candidate triangle gets the scalar test of
+   shared/ray.h (or, with CLVIS_RASTER_RULE, the raster path's predicate of shared/raster_rule.h),
+   and the walk only prunes boxes that the packet's walk would prune for this ray, so the nearest
+   key is the same. The walk: the 4-wide BVH (shared/bvh.h), or from the top level of the
+   instances (shared/instance.h), children met pushed with their entry distance, nearest taken
+   first, a popped entry skipped when it lies beyond the nearest key so far. */
+#include "shared/bvh.h"
+#include "shared/camera.h"
+#include "shared/instance.h"
+#include "shared/ray.h"
+#include "shared/region.h"
+#include "shared/visibility.h"
+#ifdef CLVIS_RASTER_RULE
+#include "shared/raster_rule.h"
+#endif
+
+#define CLVIS_RAY_NONE 0xFFFFFFFFu
+
+/* CLVIS_RAY_STACK (entries, at least 3 x the 4-wide tree's depth, as ray_trace.cl) is set by the
+   host at build time. */
+#ifndef CLVIS_RAY_STACK
+#error "CLVIS_RAY_STACK must be defined"
+#endif
+
+/* One pixel's ray and its nearest key so far. */
+typedef struct single_ray {
+    clvis_ray_shear shear; /* the watertight test's */
+    clvis_box_ray box;     /* the slab test's */
+    int x, y;              /* the pixel, in the image */
+    ulong best;            /* the nearest key */
+} single_ray;
+
+static single_ray make_ray(clvis_camera_gpu cam, int x, int y)
+{
+    single_ray r;
+    clvis_vec3 origin, dir;
+    clvis_vec2 f = clvis_camera_sample(cam);
+    clvis_primary_ray(cam, (float)x + f.x, (float)y + f.y, &origin, &dir);
+    r.shear = clvis_make_shear(origin, dir);
+    r.box = clvis_make_box_ray(origin, dir);
+    r.x = x;
+    r.y = y;
+    r.best = CLVIS_BACKGROUND_KEY;
+    return r;
+}
+
+#ifdef CLVIS_RASTER_RULE
+/* A box's key is beyond reach when its depth range starts past the ray's nearest key (or far). */
+static float reach(const single_ray* r, clvis_camera_gpu cam) { return fmin(cam.far_d, clvis_key_depth(r->best)); }
+
+/* ray_trace.cl's packet_hits_box_rule for this ray: whether the ray's line meets child k's box
+   widened by clvis_rule_box_of's margin, slabs bounded by rounding, a NaN (the line in a slab's
+   plane) constraining nothing. *enter gets the box's depth range's start, what pruning compares. */
+static int child_hits(const single_ray* r, clvis_camera_gpu cam, __global const clvis_bvh4_node* n, int k,
+                      __global const clvis_instance* xi, float* enter)
+{
+    float lo[3], hi[3];
+    clvis_instance_child_box(n, k, xi, lo, hi);
+    if (!(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2])) return 0; /* an unused slot */
+    clvis_rule_box b = clvis_rule_box_of(cam, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+    if (b.hi_d < cam.near_d) return 0;
+    *enter = b.lo_d == b.lo_d ? b.lo_d : -CLVIS_INFINITY; /* a NaN (overflow) skips nothing */
+    clvis_box_ray q = r->box;
+    float t0 = -CLVIS_INFINITY, t1 = CLVIS_INFINITY;
+    for (int a = 0; a < 3; ++a) {
+        float o = a == 0 ? q.origin.x : (a == 1 ? q.origin.y : q.origin.z);
+        float inv = a == 0 ? q.inv.x : (a == 1 ? q.inv.y : q.inv.z);
+        int neg = a == 0 ? q.neg_x : (a == 1 ? q.neg_y : q.neg_z);
+        float l = lo[a] - b.margin, h = hi[a] + b.margin;
+        t0 = clvis_raise(t0, ((neg ? h : l) - o) * inv);
+        t1 = clvis_lower(t1, ((neg ? l : h) - o) * inv);
+    }
+    t0 = t0 - fabs(t0) * 9.5367431640625e-7f;
+    t1 = t1 + fabs(t1) * 9.5367431640625e-7f;
+    return t0 <= t1 && *enter <= reach(r, cam);
+}
+
+/* The raster path's keys of the leaf's triangles at this pixel. */
+static void test_leaf(single_ray* r, clvis_camera_gpu cam, int faces, __global const clvis_bvh_tri* tris, uint first,
+                      uint count, __global const clvis_instance* xi)
+{
+    clvis_pixel_block blk = {r->x, r->y, 1, 1, 1};
+    for (uint k = first; k < first + count; ++k) {
+        float v[9];
+        uint id = clvis_instance_triangle(tris + k, xi, v);
+        clvis_vec3 a = {v[0], v[1], v[2]}, b = {v[3], v[4], v[5]}, c = {v[6], v[7], v[8]};
+        clvis_raster_rule_keys(cam, faces, a, b, c, id, blk, &r->best);
+    }
+}
+#else
+/* A box is beyond reach when the ray enters it past its nearest hit (or far), scaled as the
+   conservative slab test scales it (clvis_ray_hits_box). */
+static float reach(const single_ray* r, clvis_camera_gpu cam)
+{
+    return fmin(cam.far_d, clvis_key_depth(r->best)) * CLVIS_IZE_SCALE;
+}
+
+/* clvis_ray_hits_box on child k's world box (ray_trace.cl's packet_hits_box on one lane);
+   *enter gets the entry distance, what pruning compares. */
+static int child_hits(const single_ray* r, clvis_camera_gpu cam, __global const clvis_bvh4_node* n, int k,
+                      __global const clvis_instance* xi, float* enter)
+{
+    float lo[3], hi[3];
+    clvis_instance_child_box(n, k, xi, lo, hi);
+    clvis_vec3 l = {lo[0], lo[1], lo[2]}, h = {hi[0], hi[1], hi[2]};
+    return clvis_ray_hits_box(r->box, l, h, cam.near_d, fmin(cam.far_d, clvis_key_depth(r->best)), enter);
+}
+
+/* The watertight test on the leaf's triangles, keeping the nearest key (depth bits, then id). */
+static void test_leaf(single_ray* r, clvis_camera_gpu cam, int faces, __global const clvis_bvh_tri* tris, uint first,
+                      uint count, __global const clvis_instance* xi)
+{
+    for (uint k = first; k < first + count; ++k) {
+        float v[9], t;
+        uint id = clvis_instance_triangle(tris + k, xi, v);
+        clvis_vec3 a = {v[0], v[1], v[2]}, b = {v[3], v[4], v[5]}, c = {v[6], v[7], v[8]};
+        if (!clvis_intersect_triangle(r->shear, a, b, c, cam.near_d, cam.far_d, faces, &t)) continue;
+        ulong key = clvis_make_key(t, id);
+        r->best = key < r->best ? key : r->best;
+    }
+}
+#endif
+
+/* The walk's stack: entries (4-wide node << 2) | slot, or CLVIS_ENTER_INSTANCE, each with the
+   instance it lies in and the distance that decides whether it may still hold a nearer key. */
+typedef struct walk_stack {
+    uint entry[CLVIS_RAY_STACK], inst[CLVIS_RAY_STACK];
+    float enter[CLVIS_RAY_STACK];
+    uint sp;
+} walk_stack;
+
+/* Opens child k of node nd, met at distance `at`: returns the node to visit next, or
+   CLVIS_RAY_NONE once a leaf's triangles are tested; a top-level leaf enters its instances (the
+   first now, the others pushed at the leaf's distance). */
+static uint open_child(single_ray* r, clvis_camera_gpu cam, int faces, __global const clvis_bvh4_node* nd, int k,
+                       float at, __global const clvis_bvh_tri* tris, __global const clvis_instance* instances,
+                       walk_stack* st, uint* inst, __global const clvis_instance** xi)
+{
+    if (nd->count[k] == 0) return nd->child[k];
+    if (*inst == CLVIS_INST_TOP) {
+        uint pushed = st->sp;
+        uint root = clvis_enter_instances(nd, k, instances, st->entry, st->inst, &st->sp, inst, xi);
+        for (; pushed < st->sp; ++pushed) st->enter[pushed] = at;
+        return root;
+    }
+    test_leaf(r, cam, faces, tris, nd->child[k], nd->count[k], *xi);
+    return CLVIS_RAY_NONE;
+}
+
+/* The nearest key of the ray of pixel (x, y); `two_level` starts in the top level of `instances`. */
+static ulong trace_single(clvis_camera_gpu cam, int x, int y, __global const clvis_bvh4_node* nodes, uint node_count,
+                          __global const clvis_bvh_tri* tris, __global const clvis_instance* instances, int two_level,
+                          int faces)
+{
+    single_ray r = make_ray(cam, x, y);
+    walk_stack st;
+    st.sp = 0;
+    uint node = node_count > 0 ? 0u : CLVIS_RAY_NONE;
+    uint inst = two_level ? CLVIS_INST_TOP : CLVIS_INST_FLAT;
+    __global const clvis_instance* xi = 0; /* instance `inst`, or none at the top level and in the flat tree */
+    while (node != CLVIS_RAY_NONE) {
+        __global const clvis_bvh4_node* nd = nodes + node;
+        /* the children the ray meets, nearest first */
+        uint order[4];
+        float along[4];
+        uint hits = 0;
+        for (int k = 0; k < 4; ++k) {
+            float e;
+            if (child_hits(&r, cam, nd, k, xi, &e)) clvis_insert_child(order, along, &hits, (uint)k, e);
+        }
+        node = CLVIS_RAY_NONE;
+        if (hits > 0) {
+            for (uint i = hits - 1; i > 0; --i, ++st.sp) {
+                st.entry[st.sp] = (uint)(nd - nodes) << 2 | order[i];
+                st.inst[st.sp] = inst;
+                st.enter[st.sp] = along[i];
+            }
+            node = open_child(&r, cam, faces, nd, (int)order[0], along[0], tris, instances, &st, &inst, &xi);
+        }
+        /* pop the next entry that may still hold a nearer key */
+        while (node == CLVIS_RAY_NONE && st.sp > 0) {
+            uint e = st.entry[--st.sp];
+            inst = st.inst[st.sp];
+            xi = inst < CLVIS_INST_TOP ? instances + inst : 0;
+            if (st.enter[st.sp] > reach(&r, cam)) continue;
+            if (e == CLVIS_ENTER_INSTANCE) node = clvis_enter_instance(instances, inst, &inst, &xi);
+            else node = open_child(&r, cam, faces, nodes + (e >> 2), (int)(e & 3u), st.enter[st.sp], tris, instances,
+                                   &st, &inst, &xi);
+        }
+    }
+    return r.best;
+}
+
+__kernel void ray_trace_single(clvis_camera_gpu cam, __global const clvis_bvh4_node* nodes, uint node_count,
+                               __global const clvis_bvh_tri* tris, int faces, __global ulong* keys, clvis_region region,
+                               __global const clvis_instance* instances, int two_level)
+{
+    int lx = (int)get_global_id(0), ly = (int)get_global_id(1); /* in the region (shared/region.h) */
+    if (lx >= region.width || ly >= region.height) return;  /* the launch is rounded up to whole groups */
+    ulong key = trace_single(cam, region.x + lx, region.y + ly, nodes, node_count, tris, instances, two_level, faces);
+    keys[(((size_t)ly * (size_t)region.width + (size_t)lx) << cam.sample_log2) + (size_t)cam.sample] = key;
+}
+
+/* Many views in one launch (ray_trace_views' interface): the third dimension is the view, whose
+   keys start `stride` keys after the previous view's. */
+__kernel void ray_trace_single_views(__global const clvis_camera_gpu* cams, __global const clvis_bvh4_node* nodes,
+                                     uint node_count, __global const clvis_bvh_tri* tris, int faces,
+                                     __global ulong* keys, ulong stride, __global const clvis_instance* instances,
+                                     int two_level)
+{
+    size_t view = get_global_id(2);
+    clvis_camera_gpu cam = cams[view];
+    int x = (int)get_global_id(0), y = (int)get_global_id(1);
+    if (x >= cam.width || y >= cam.height) return;
+    ulong key = trace_single(cam, x, y, nodes, node_count, tris, instances, two_level, faces);
+    keys[view * stride + ((((size_t)y * (size_t)cam.width + (size_t)x) << cam.sample_log2) + (size_t)cam.sample)] = key;
+}
