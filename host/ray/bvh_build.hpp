@@ -23,10 +23,10 @@ enum class BvhSplit {
 struct BvhBuildOptions : BvhOptions {
     BvhSplit split = BvhSplit::Sah;
     unsigned threads = 0;    ///< worker threads; 0: the machine's hardware threads
-    /// Every range of at most max_leaf_size becomes a leaf, and ranges of up to 256 leaves split
-    /// where the left side is a whole number of full leaves, of groups of 4 of them past 4
-    /// leaves, of 16 past 16...: with collapse_bvh4's `aligned`, nearly every 4-wide node is full,
-    /// as the instances' top level wants it (bvh_instances.cpp).
+    /// Every range of at most max_leaf_size becomes a leaf, and ranges of up to 16 leaves split
+    /// where the left side is whole leaves, or whole groups of 4 leaves past 4: with
+    /// collapse_bvh4's `aligned`, most 4-wide nodes are full, as the instances' top level wants
+    /// it (bvh_instances.cpp).
     bool full_leaves = false;
 };
 
