@@ -334,9 +334,13 @@ static lanes_i packet_hits_box_rule(const packet* p, clvis_camera_gpu cam, __glo
     float lo_d = b.lo_d == b.lo_d ? b.lo_d : -CLVIS_INFINITY; /* a NaN (overflow) skips nothing */
     lanes_f lox = (lanes_f)(lx - b.margin), loy = (lanes_f)(ly - b.margin), loz = (lanes_f)(lz - b.margin);
     lanes_f hix = (lanes_f)(hx + b.margin), hiy = (lanes_f)(hy + b.margin), hiz = (lanes_f)(hz + b.margin);
-    lanes_f t0 = raise(raise((select(lox, hix, p->nx) - p->ox) * p->ix, (select(loy, hiy, p->ny) - p->oy) * p->iy),
+    /* from -inf and +inf, so that a NaN slab (an origin in a slab plane of an axis the ray runs
+       parallel to: 0 * inf) is ignored on every axis, the first included */
+    lanes_f t0 = raise(raise(raise((lanes_f)(-CLVIS_INFINITY), (select(lox, hix, p->nx) - p->ox) * p->ix),
+                             (select(loy, hiy, p->ny) - p->oy) * p->iy),
                        (select(loz, hiz, p->nz) - p->oz) * p->iz);
-    lanes_f t1 = lower(lower((select(hix, lox, p->nx) - p->ox) * p->ix, (select(hiy, loy, p->ny) - p->oy) * p->iy),
+    lanes_f t1 = lower(lower(lower((lanes_f)(CLVIS_INFINITY), (select(hix, lox, p->nx) - p->ox) * p->ix),
+                             (select(hiy, loy, p->ny) - p->oy) * p->iy),
                        (select(hiz, loz, p->nz) - p->oz) * p->iz);
     /* the whole line, either side of its origin; the margin dwarfs the slab test's rounding */
     t0 = t0 - fabs(t0) * 9.5367431640625e-7f;
