@@ -1,10 +1,13 @@
 // Times a scene of many instances of one mesh (issue #20): COUNT copies of MESH on a square grid,
 // each turned and scaled, rendered at SIZE x SIZE from above the grid. Prints the ray path's BVH
 // build (prototype trees and top level), its device bytes, frame times, and the top level's
-// rebuild after moving one instance; with --raster also the raster path's frames (it reads the
-// expansion: only for counts whose expansion fits). Peak memory: run under /usr/bin/time -v.
+// rebuild after moving one instance; with --raster also the raster path's frames (drawn without
+// the expansion, in chunks of instances) and its device bytes. Peak memory: run under
+// /usr/bin/time -v.
 // Usage: clvis_instances [COUNT [MESH [SIZE [FRAMES]]]] [--raster]
 //        (defaults: 10000 scenes/stanford-bunny.obj 512 5).
+#include "render/renderer_probe.hpp"
+
 #include <clvis/clvis.hpp>
 
 #include <algorithm>
@@ -93,7 +96,11 @@ int main(int argc, char** argv)
                         ms_since(t0), r.bvh_stats().top_build_ms, r.bvh_stats().prototype_builds);
         }
         frames(r, cam, size, frame_count, Path::Ray);
-        if (raster) frames(r, cam, size, frame_count, Path::Raster);
+        if (raster) {
+            frames(r, cam, size, frame_count, Path::Raster);
+            std::printf("raster path: device bytes of the meshes and instance records %llu, expansion uploaded: %s\n",
+                        (unsigned long long)detail::item_device_bytes(r), detail::expansion_uploaded(r) ? "yes" : "no");
+        }
     } catch (const Error& e) {
         std::fprintf(stderr, "clvis_instances: %s\n", e.what());
         return 1;

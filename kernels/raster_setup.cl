@@ -3,12 +3,15 @@
    touch few pixel centres at once into the visibility buffer (64-bit atomic min), and lists the
    others for raster_bin.cl (binning) and raster_fine.cl (tile rasterization). Built with
    CLVIS_RASTER_OWNED (tile ownership, RasterAtomics::Off) it draws nothing and lists every
-   triangle, and needs no 64-bit atomics. */
+   triangle, and needs no 64-bit atomics. raster_setup_item_vertices and raster_setup_items do the
+   same for a chunk of the items of a scene with instances (shared/scene_items.h): vertices read
+   through each instance's matrix, with the expansion's bits, and ids as the expansion's. */
 #ifndef CLVIS_RASTER_OWNED
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
 #endif
 #include "shared/raster_rule.h"
+#include "shared/scene_items.h"
 
 /* Triangles whose pixel bounding box holds at most CLVIS_RASTER_SCALAR pixel centres are
    rasterized here sample by sample; those whose box is at most 8 pixels wide (one vector span)
@@ -102,24 +105,39 @@ static void clip_and_emit(clvis_clip_vertex p0, clvis_clip_vertex p1, clvis_clip
     }
 }
 
+static clvis_raster_projected project(clvis_camera_gpu cam, clvis_clip_vertex p)
+{
+    clvis_u32 code = clvis_outcode(cam, p);
+    clvis_raster_vertex r = clvis_raster_vertex_from(cam, p);
+    int keep = (code & CLVIS_OUT_CLIP) == 0u;
+    clvis_raster_projected out = {keep ? (int)r.x : 0, keep ? (int)r.y : 0, r.v, code};
+    return out;
+}
+
 /* Straight-line code, one work-item per vertex: PoCL runs it as a vector loop. */
 __kernel void raster_setup_vertices(clvis_camera_gpu cam, __global const float* positions, uint vertex_count,
                                     __global clvis_raster_projected* projected)
 {
     uint v = (uint)get_global_id(0);
     if (v >= vertex_count) return;
-    clvis_clip_vertex p = load_camera_vertex(cam, positions, v);
-    clvis_u32 code = clvis_outcode(cam, p);
-    clvis_raster_vertex r = clvis_raster_vertex_from(cam, p);
-    int keep = (code & CLVIS_OUT_CLIP) == 0u;
-    clvis_raster_projected out = {keep ? (int)r.x : 0, keep ? (int)r.y : 0, r.v, code};
-    projected[v] = out;
+    projected[v] = project(cam, load_camera_vertex(cam, positions, v));
 }
 
 static clvis_raster_vertex widen(clvis_raster_projected p)
 {
     clvis_raster_vertex v = {p.x, p.y, p.v};
     return v;
+}
+
+/* Emits a triangle that needs no clipping and returns 0, or returns 1 for one that needs it
+   (nothing for one wholly outside a side of the view). */
+static int emit_unclipped(clvis_raster_projected pa, clvis_raster_projected pb, clvis_raster_projected pc, uint id,
+                          raster_setup_out out)
+{
+    if (pa.code & pb.code & pc.code & CLVIS_OUT_VIEW) return 0;
+    if ((pa.code | pb.code | pc.code) & CLVIS_OUT_CLIP) return 1;
+    emit_triangle(widen(pa), widen(pb), widen(pc), id, out);
+    return 0;
 }
 
 __kernel void raster_setup(clvis_camera_gpu cam, __global const float* positions, __global const uint* indices,
@@ -131,13 +149,60 @@ __kernel void raster_setup(clvis_camera_gpu cam, __global const float* positions
     if (id >= triangle_count) return;
     size_t i = 3 * (size_t)id;
     uint a = indices[i], b = indices[i + 1], c = indices[i + 2];
-    clvis_raster_projected pa = projected[a], pb = projected[b], pc = projected[c];
-    if (pa.code & pb.code & pc.code & CLVIS_OUT_VIEW) return;
     raster_setup_out out = {cam, cull, keys, tris, capacity, listed, region};
-    if ((pa.code | pb.code | pc.code) & CLVIS_OUT_CLIP) {
+    if (emit_unclipped(projected[a], projected[b], projected[c], id, out))
         clip_and_emit(load_camera_vertex(cam, positions, a), load_camera_vertex(cam, positions, b),
                       load_camera_vertex(cam, positions, c), id, clvis_guard_of(cam), out);
-        return;
-    }
-    emit_triangle(widen(pa), widen(pb), widen(pc), id, out);
+}
+
+/* Where items read their vertices (shared/scene_items.h). */
+typedef struct {
+    __global const float* positions;
+    __global const clvis_item_mesh* meshes;
+    __global const clvis_item* items;
+} item_chunk;
+
+static clvis_clip_vertex item_camera_vertex(clvis_camera_gpu cam, item_chunk k, uint item, uint v)
+{
+    clvis_vec3 p = clvis_item_point(k.items + item, k.meshes, k.positions, v);
+    return clvis_clip_vertex_of(cam, p.x, p.y, p.z);
+}
+
+/* raster_setup_vertices for the vertex_count vertices of a chunk's items, item after item. */
+__kernel void raster_setup_item_vertices(clvis_camera_gpu cam, __global const float* positions,
+                                         __global const clvis_item_mesh* meshes, __global const clvis_item* items,
+                                         uint first_item, uint end_item, uint vertex_count,
+                                         __global clvis_raster_projected* projected)
+{
+    uint v = (uint)get_global_id(0);
+    if (v >= vertex_count) return;
+    ulong first = clvis_item_first_vertex(items + first_item) + v;
+    uint item = clvis_item_of_vertex(items, first_item, end_item, first);
+    item_chunk k = {positions, meshes, items};
+    projected[v] = project(cam, item_camera_vertex(cam, k, item, (uint)(first - clvis_item_first_vertex(items + item))));
+}
+
+/* raster_setup for the triangle_count triangles of a chunk's items (ids as the expansion's);
+   `projected` holds raster_setup_item_vertices' vertices of the same chunk. */
+__kernel void raster_setup_items(clvis_camera_gpu cam, __global const float* positions, __global const uint* indices,
+                                 __global const clvis_item_mesh* meshes, __global const clvis_item* items,
+                                 uint first_item, uint end_item, uint triangle_count,
+                                 __global const clvis_raster_projected* projected, int cull,
+                                 volatile __global ulong* keys, __global clvis_raster_tri* tris, uint capacity,
+                                 volatile __global uint* listed, clvis_region region)
+{
+    uint t = (uint)get_global_id(0);
+    if (t >= triangle_count) return;
+    uint id = items[first_item].first_id + t;
+    uint item = clvis_item_of_triangle(items, first_item, end_item, id);
+    clvis_item_mesh mesh = meshes[items[item].mesh & ~CLVIS_ITEM_TRANSFORMED];
+    size_t i = 3 * ((size_t)mesh.first_triangle + (id - items[item].first_id));
+    uint a = indices[i], b = indices[i + 1], c = indices[i + 2];
+    __global const clvis_raster_projected* own =
+        projected + (size_t)(clvis_item_first_vertex(items + item) - clvis_item_first_vertex(items + first_item));
+    raster_setup_out out = {cam, cull, keys, tris, capacity, listed, region};
+    item_chunk k = {positions, meshes, items};
+    if (emit_unclipped(own[a], own[b], own[c], id, out))
+        clip_and_emit(item_camera_vertex(cam, k, item, a), item_camera_vertex(cam, k, item, b),
+                      item_camera_vertex(cam, k, item, c), id, clvis_guard_of(cam), out);
 }

@@ -3,6 +3,7 @@
 // (rotations, scales, mirrors, exact ties between coincident instances, instances behind the
 // eye); a move rebuilds the top level only; each instance costs a few dozen device bytes.
 #include "catch.hpp"
+#include "render/renderer_probe.hpp"
 #include "scene/instance_transform.hpp"
 #include "test_files.hpp"
 
@@ -319,4 +320,74 @@ TEST_CASE("an update refuses a changed prototype and follows a moved instance", 
     Scene plain_moved = a;
     plain_moved.set_transform(0, placed(0.1, 0, {0, 0, -7}, {2, 2, 2}));
     CHECK_NOTHROW(r.update(plain_moved)); // a plain mesh moves too, the instances stay
+}
+
+TEST_CASE("the raster path draws instances in chunks with the expansion's keys", "[device][instances][raster]")
+{
+    Device device = Device::open();
+    Scene a = spots_and_tiles(true), b = spots_and_tiles(false);
+    Camera cam = eye_at_origin();
+    for (RasterAtomics atomics : {RasterAtomics::Off, RasterAtomics::Auto}) {
+        for (RasterMapping mapping : {RasterMapping::Square, RasterMapping::Pixel}) {
+            for (int samples : {1, 4}) {
+                RenderOptions o;
+                o.raster_atomics = atomics;
+                o.raster_mapping = mapping;
+                o.samples = samples;
+                o.cull = samples == 4 ? Cull::Back : Cull::None;
+                Renderer rb(device, b, o);
+                HostVisibility want = rb.render(cam, 64, 48, Path::Raster).read();
+                o.region = Region{5, 7, 40, 30};
+                HostVisibility want_region = Renderer(device, b, o).render(cam, 64, 48, Path::Raster).read();
+                // one chunk; a chunk per item (an item larger than a chunk); several items a chunk
+                for (std::size_t chunk : {std::size_t(1) << 21, std::size_t(1), std::size_t(6000)}) {
+                    INFO(to_string(atomics) << " " << to_string(mapping) << " samples " << samples << " chunk " << chunk);
+                    o.region = Region{};
+                    Renderer ra(device, a, o);
+                    detail::set_raster_chunk(ra, chunk);
+                    CHECK(same_bits(ra.render(cam, 64, 48, Path::Raster).read(), want));
+                    CHECK(same_bits(ra.render(cam, 64, 48, Path::Raster).read(), want)); // again, buffers kept
+                    o.region = Region{5, 7, 40, 30};
+                    Renderer rr(device, a, o);
+                    detail::set_raster_chunk(rr, chunk);
+                    CHECK(same_bits(rr.render(cam, 64, 48, Path::Raster).read(), want_region));
+                    CHECK_FALSE(detail::expansion_uploaded(ra));
+                }
+            }
+        }
+    }
+}
+
+TEST_CASE("the raster path of an instanced scene never uploads the expansion", "[device][instances][raster]")
+{
+    Device device = Device::open();
+    MeshData spot = load_mesh(CLVIS_SOURCE_DIR "/scenes/spot.obj");
+    Scene s, expanded;
+    std::size_t p = s.add_prototype(spot);
+    for (int i = 0; i < 300; ++i) {
+        Mat4 t = placed(0.1 * i, 0, {double(i % 20), double(i / 20), 0}, {0.5, 0.5, 0.5});
+        s.add_instance(p, t);
+        expanded.add_mesh(spot, t);
+    }
+    Camera cam = Camera::framing(s.bounds());
+    Renderer r(device, s), re(device, expanded);
+    CHECK(detail::item_device_bytes(r) == 0); // nothing before the raster path draws
+    HostVisibility got = r.render(cam, 96, 64, Path::Raster).read();
+    CHECK_FALSE(detail::expansion_uploaded(r));
+    std::uint64_t bytes = detail::item_device_bytes(r);
+    INFO("device bytes " << bytes);
+    CHECK(bytes <= 24 * spot.triangle_count() + 12 * spot.vertex_count() + 64 * 300 + 64); // mesh once, 64 B an item
+    CHECK(bytes >= 12 * spot.triangle_count());
+    CHECK(same_bits(got, re.render(cam, 96, 64, Path::Raster).read()));
+    // Moving an instance draws it moved, still without the expansion.
+    Mat4 moved = placed(1.0, 0.5, {3, 3, 1}, {1, 1, 1});
+    s.set_transform(7, moved);
+    expanded.set_transform(7, moved);
+    r.update(s);
+    re.update(expanded);
+    HostVisibility after = r.render(cam, 96, 64, Path::Raster).read();
+    CHECK(same_bits(after, re.render(cam, 96, 64, Path::Raster).read()));
+    CHECK_FALSE(same_bits(after, got));
+    CHECK_FALSE(detail::expansion_uploaded(r));
+    CHECK(detail::expansion_uploaded(re)); // a plain scene uploads at construction
 }

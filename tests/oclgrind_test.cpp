@@ -9,6 +9,7 @@
 #include <clvis/clvis.hpp>
 
 #include "render/pipeline.hpp"
+#include "render/renderer_probe.hpp"
 
 #include <cmath>
 #include <cstring>
@@ -109,12 +110,18 @@ Case overflowing_list()
     return c;
 }
 
-/// Renders `path` on a fresh Oclgrind device and on PoCL with `options`; the keys must match.
-void check_on_grind(const Device& pocl, const Case& c, Path path, const RenderOptions& options = {})
+/// Renders `path` on a fresh Oclgrind device and on PoCL with `options` (and, for a scene with
+/// instances, `chunk` triangles per chunk of the raster path when not 0); the keys must match.
+void check_on_grind(const Device& pocl, const Case& c, Path path, const RenderOptions& options = {},
+                    std::size_t chunk = 0)
 {
     Device grind = Device::open("oclgrind");
     Renderer on_grind(grind, c.scene, options);
     Renderer on_pocl(pocl, c.scene, options);
+    if (chunk) {
+        clvis::detail::set_raster_chunk(on_grind, chunk);
+        clvis::detail::set_raster_chunk(on_pocl, chunk);
+    }
     auto a = on_grind.render(c.camera, c.width, c.height, path).read_keys();
     auto b = on_pocl.render(c.camera, c.width, c.height, path).read_keys();
     std::size_t differ = 0, covered = 0;
@@ -270,12 +277,21 @@ TEST_CASE("the pixel mapping of the raster fine stage runs clean on Oclgrind", "
     }
 }
 
+namespace {
+
+/// The first case's mesh as a prototype: a plain copy, then three instances (one mirrored).
+Case first_case_instanced()
+{
+    Case c = std::move(cases().front());
+    return Case{c.name + " instanced", plain_and_instanced(c.scene.data_of(0)), c.camera, c.width, c.height};
+}
+
+} // namespace
+
 TEST_CASE("the two-level walk of instances runs clean on Oclgrind in both coverage modes", "[.oclgrind]")
 {
-    // The first case's mesh as a prototype: a plain copy, then three instances (one mirrored).
     Device pocl = Device::open("portable computing language");
-    Case c = std::move(cases().front());
-    Case inst{c.name + " instanced", plain_and_instanced(c.scene.data_of(0)), c.camera, c.width, c.height};
+    Case inst = first_case_instanced();
     for (Coverage coverage : {Coverage::Watertight, Coverage::RasterRule}) {
         RenderOptions o;
         o.coverage = coverage;
@@ -301,5 +317,18 @@ TEST_CASE("ray_trace_single runs clean on Oclgrind in both coverage modes", "[.o
             CHECK(on_grind.render(k->camera, k->width, k->height, Path::Ray).read_keys() ==
                   on_pocl.render(k->camera, k->width, k->height, Path::Ray).read_keys());
         }
+    }
+}
+
+TEST_CASE("the raster path's chunks of instances run clean on Oclgrind", "[.oclgrind]")
+{
+    // A chunk per item (the plain copy, then each instance) under both depth tests.
+    Device pocl = Device::open("portable computing language");
+    Case inst = first_case_instanced();
+    for (RasterAtomics mode : {RasterAtomics::Off, RasterAtomics::Auto}) {
+        INFO(to_string(mode));
+        RenderOptions o;
+        o.raster_atomics = mode;
+        check_on_grind(pocl, inst, Path::Raster, o, 1);
     }
 }

@@ -7,8 +7,12 @@
 // launches. RasterMapping::Pixel runs raster_fine_pixel instead (a work-group per square of a
 // tile, a work-item per pixel, the bin walked in batches through local memory). The host plans
 // every capacity from counts read back during the frame and grows buffers (re-running the stage
-// that overflowed) rather than drop.
+// that overflowed) rather than drop. A scene with instances is drawn without its expansion, in
+// chunks of whole items (render/instanced_scene.hpp): per chunk raster_setup_item_vertices and
+// raster_setup_items, then the stages above, every chunk's keys merged into the same buffer.
 #include "render/pipeline.hpp"
+
+#include "render/instanced_scene.hpp"
 
 #include "runtime/cl_runtime.hpp"
 
@@ -85,6 +89,7 @@ struct RasterPipeline::Impl {
     std::uint32_t loop_limit = Device::Impl::loop_unlimited; ///< the device's, measured
     std::uint32_t fine_chunk = 0xFFFFFFFFu; ///< bin entries per launch of raster_fine.cl
     cl::Kernel clear, zero, vertices, setup, bin_count, bin_scan, bin_fill, fine;
+    cl::Kernel item_vertices, item_setup; ///< the same two stages for a chunk of items
     std::size_t zero_group = 1, vertex_group = 1, setup_group = 1, bin_group = 1, scan_items = 1;
     cl::NDRange fine_group;
     cl::Buffer counters; ///< uint[2] triangles listed by setup (low, high word), ulong bin entries, ulong longest bin
@@ -108,8 +113,8 @@ struct RasterPipeline::Impl {
     void pick_groups()
     {
         zero_group = std::min(linear_group, floor_pow2(granted(zero)));
-        vertex_group = std::min(linear_group, floor_pow2(granted(vertices)));
-        setup_group = std::min(linear_group, floor_pow2(granted(setup)));
+        vertex_group = std::min({linear_group, floor_pow2(granted(vertices)), floor_pow2(granted(item_vertices))});
+        setup_group = std::min({linear_group, floor_pow2(granted(setup)), floor_pow2(granted(item_setup))});
         bin_group = std::min({linear_group, floor_pow2(granted(bin_count)), floor_pow2(granted(bin_fill))});
         scan_items = std::min(scan_group, floor_pow2(granted(bin_scan)));
         auto item_sizes = device.device.getInfo<CL_DEVICE_MAX_WORK_ITEM_SIZES>();
@@ -216,28 +221,15 @@ struct RasterPipeline::Impl {
         frame.stages->add("setup", projected_done);
     }
 
-    /// Runs setup and returns how many triangles it listed for binning (all of them stored);
-    /// projects the vertices first when `project` (once per frame: they do not depend on the sample).
-    std::size_t run_setup(const DeviceScene& scene, Frame& frame, bool project)
+    /// Runs a setup launch (`enqueue` sets its list arguments from tris and tri_capacity and
+    /// enqueues it, signalling its event) until its list holds every triangle it lists; returns
+    /// how many that is.
+    template <class Enqueue> std::size_t listed_by(Frame& frame, Enqueue enqueue)
     {
-        if (project) project_vertices(scene, frame);
         for (;;) {
             cl::Event done;
             zero_words(frame, counters, 4, "setup");
-            setup.setArg(0, sizeof frame.gpu_camera, &frame.gpu_camera);
-            setup.setArg(1, scene.positions);
-            setup.setArg(2, scene.indices);
-            setup.setArg(3, cl_uint(scene.triangle_count));
-            setup.setArg(4, projected);
-            setup.setArg(5, cl_int(cull));
-            setup.setArg(6, frame.keys);
-            setup.setArg(7, tris);
-            setup.setArg(8, cl_uint(std::min<std::size_t>(tri_capacity, 0xFFFFFFFFu)));
-            setup.setArg(9, counters);
-            setup.setArg(10, sizeof frame.region, &frame.region);
-            frame.queue.enqueueNDRangeKernel(setup, cl::NullRange,
-                                             cl::NDRange(round_up(scene.triangle_count, setup_group)),
-                                             cl::NDRange(setup_group), nullptr, &done);
+            enqueue(done);
             frame.stages->add("setup", done);
             cl_ulong listed = read_listed(frame);
             if (listed <= tri_capacity) return std::size_t(listed);
@@ -247,7 +239,86 @@ struct RasterPipeline::Impl {
         }
     }
 
-    void render(const DeviceScene& scene, Frame& frame)
+    /// Sets the arguments of a setup kernel from `first` on: projected, cull, keys, the list,
+    /// its capacity, the counters and the region (raster_setup.cl's order).
+    void set_setup_outputs(cl::Kernel& k, cl_uint first, Frame& frame)
+    {
+        k.setArg(first, projected);
+        k.setArg(first + 1, cl_int(cull));
+        k.setArg(first + 2, frame.keys);
+        k.setArg(first + 3, tris);
+        k.setArg(first + 4, cl_uint(std::min<std::size_t>(tri_capacity, 0xFFFFFFFFu)));
+        k.setArg(first + 5, counters);
+        k.setArg(first + 6, sizeof frame.region, &frame.region);
+    }
+
+    /// Runs setup and returns how many triangles it listed for binning (all of them stored);
+    /// projects the vertices first when `project` (once per frame: they do not depend on the sample).
+    std::size_t run_setup(const DeviceScene& scene, Frame& frame, bool project)
+    {
+        if (project) project_vertices(scene, frame);
+        return listed_by(frame, [&](cl::Event& done) {
+            setup.setArg(0, sizeof frame.gpu_camera, &frame.gpu_camera);
+            setup.setArg(1, scene.positions);
+            setup.setArg(2, scene.indices);
+            setup.setArg(3, cl_uint(scene.triangle_count));
+            set_setup_outputs(setup, 4, frame);
+            frame.queue.enqueueNDRangeKernel(setup, cl::NullRange,
+                                             cl::NDRange(round_up(scene.triangle_count, setup_group)),
+                                             cl::NDRange(setup_group), nullptr, &done);
+        });
+    }
+
+    /// Sets the item kernels' first arguments: camera, positions, (indices,) meshes, items, the chunk.
+    cl_uint set_item_args(cl::Kernel& k, const InstancedScene& scene, const ItemChunk& c, Frame& frame, bool indices)
+    {
+        cl_uint a = 0;
+        k.setArg(a++, sizeof frame.gpu_camera, &frame.gpu_camera);
+        k.setArg(a++, scene.positions);
+        if (indices) k.setArg(a++, scene.indices);
+        k.setArg(a++, scene.meshes);
+        k.setArg(a++, scene.items);
+        k.setArg(a++, cl_uint(c.first_item));
+        k.setArg(a++, cl_uint(c.end_item));
+        return a;
+    }
+
+    /// A scene with instances: every chunk of items projected, set up and drawn per sample, each
+    /// merged into the keys (cleared first, whatever the depth test).
+    void render_items(const InstancedScene& scene, Frame& frame, std::size_t chunk_triangles)
+    {
+        clear_keys(clear, frame);
+        int samples = 1 << frame.gpu_camera.sample_log2;
+        for (const ItemChunk& c : scene.chunks(chunk_triangles)) {
+            reserve(projected, projected_capacity, c.vertex_count, sizeof(clvis_raster_projected), 1,
+                    "projected vertices");
+            frame.gpu_camera.sample = 0;
+            cl_uint a = set_item_args(item_vertices, scene, c, frame, false);
+            item_vertices.setArg(a, cl_uint(c.vertex_count));
+            item_vertices.setArg(a + 1, projected);
+            cl::Event projected_done;
+            frame.queue.enqueueNDRangeKernel(item_vertices, cl::NullRange,
+                                             cl::NDRange(round_up(c.vertex_count, vertex_group)),
+                                             cl::NDRange(vertex_group), nullptr, &projected_done);
+            frame.stages->add("setup", projected_done);
+            for (int sample = 0; sample < samples; ++sample) {
+                frame.gpu_camera.sample = sample;
+                std::size_t listed = listed_by(frame, [&](cl::Event& done) {
+                    cl_uint k = set_item_args(item_setup, scene, c, frame, true);
+                    item_setup.setArg(k, cl_uint(c.triangle_count));
+                    set_setup_outputs(item_setup, k + 1, frame);
+                    frame.queue.enqueueNDRangeKernel(item_setup, cl::NullRange,
+                                                     cl::NDRange(round_up(c.triangle_count, setup_group)),
+                                                     cl::NDRange(setup_group), nullptr, &done);
+                });
+                if (listed > 0) draw_listed(frame, listed, true);
+            }
+        }
+        frame.gpu_camera.sample = 0;
+    }
+
+    /// Refuses an image larger than the raster path draws; makes the tile bins for the frame.
+    void prepare_frame(Frame& frame)
     {
         int image_w = frame.gpu_camera.width, image_h = frame.gpu_camera.height; // the region's image
         if (image_w > CLVIS_MAX_IMAGE_SIZE || image_h > CLVIS_MAX_IMAGE_SIZE)
@@ -255,13 +326,6 @@ struct RasterPipeline::Impl {
                                                 std::to_string(CLVIS_MAX_IMAGE_SIZE) + " pixels a side (" +
                                                 std::to_string(image_w) + "x" + std::to_string(image_h) +
                                                 " asked): its fixed-point edge functions hold no more");
-        if (scene.triangle_count == 0) {
-            clear_keys(clear, frame);
-            return;
-        }
-        // Buffers whose size the frame fixes are made before anything is enqueued.
-        reserve(projected, projected_capacity, scene.vertex_count, sizeof(clvis_raster_projected), 1,
-                "projected vertices");
         std::size_t tiles = std::size_t((frame.width + (1 << tile_log2) - 1) >> tile_log2) *
                             std::size_t((frame.height + (1 << tile_log2) - 1) >> tile_log2);
         if (tiles + 1 > tile_capacity) {
@@ -271,6 +335,19 @@ struct RasterPipeline::Impl {
             cursors = make_buffer((tiles + 1) * sizeof(cl_uint));
             tile_capacity = tiles + 1;
         }
+    }
+
+    void render(const DeviceScene& scene, Frame& frame)
+    {
+        if (scene.triangle_count == 0) {
+            prepare_frame(frame);
+            clear_keys(clear, frame);
+            return;
+        }
+        // Buffers whose size the frame fixes are made before anything is enqueued.
+        reserve(projected, projected_capacity, scene.vertex_count, sizeof(clvis_raster_projected), 1,
+                "projected vertices");
+        prepare_frame(frame);
         // Tile ownership writes every key in raster_fine.cl: the clear is needed only when
         // nothing is listed (and raster_fine.cl does not run), which with several samples per
         // pixel one sample may meet while another draws, so then the clear comes first.
@@ -293,7 +370,13 @@ struct RasterPipeline::Impl {
             if (owned && frame.gpu_camera.sample_log2 == 0) clear_keys(clear, frame);
             return;
         }
+        draw_listed(frame, listed, false);
+    }
 
+    /// Bins the `listed` triangles setup listed and draws them (raster_fine.cl), merged with the
+    /// keys when `merge` (an earlier chunk of items drew) or as the depth test's first launch does.
+    void draw_listed(Frame& frame, std::size_t listed, bool merge)
+    {
         int tile = 1 << tile_log2;
         int tiles_x = (frame.width + tile - 1) / tile, tiles_y = (frame.height + tile - 1) / tile;
         std::size_t tile_count = std::size_t(tiles_x) * std::size_t(tiles_y);
@@ -334,12 +417,12 @@ struct RasterPipeline::Impl {
         frame.queue.enqueueNDRangeKernel(bin_fill, cl::NullRange, bin_global, bin_local, nullptr, &filled);
         frame.stages->add("bin", filled);
 
-        run_fine(frame, tiles_x, bins[1]);
+        run_fine(frame, tiles_x, bins[1], merge);
     }
 
     /// raster_fine.cl over every square, in as many launches as the longest bin needs on a device
     /// that caps loops (one elsewhere); each launch after the first merges with the keys.
-    void run_fine(Frame& frame, int tiles_x, cl_ulong longest)
+    void run_fine(Frame& frame, int tiles_x, cl_ulong longest, bool merge)
     {
         fine.setArg(0, tris);
         fine.setArg(1, entries);
@@ -359,7 +442,7 @@ struct RasterPipeline::Impl {
         do {
             cl::Event drawn;
             fine.setArg(8, cl_uint(first));
-            fine.setArg(10, cl_int(!owned || first > 0)); // merge: setup drew (atomics), or an earlier chunk did
+            fine.setArg(10, cl_int(merge || !owned || first > 0)); // setup drew (atomics), or an earlier launch did
             frame.queue.enqueueNDRangeKernel(fine, cl::NullRange, fine_global, fine_group, nullptr, &drawn);
             frame.stages->add("raster", drawn);
             first += fine_chunk;
@@ -381,6 +464,8 @@ RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& option
         cl::Program setup = device.program("raster_setup", m.owned ? "-DCLVIS_RASTER_OWNED" : "");
         m.vertices = cl::Kernel(setup, "raster_setup_vertices");
         m.setup = cl::Kernel(setup, "raster_setup");
+        m.item_vertices = cl::Kernel(setup, "raster_setup_item_vertices");
+        m.item_setup = cl::Kernel(setup, "raster_setup_items");
         cl::Program bin = device.program("raster_bin");
         m.zero = cl::Kernel(bin, "raster_bin_zero");
         m.bin_count = cl::Kernel(bin, "raster_bin_count");
@@ -400,5 +485,11 @@ RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& option
 RasterPipeline::~RasterPipeline() = default;
 
 void RasterPipeline::render(const DeviceScene& scene, Frame& frame) { impl_->render(scene, frame); }
+
+void RasterPipeline::render(const InstancedScene& scene, Frame& frame, std::size_t chunk_triangles)
+{
+    impl_->prepare_frame(frame);
+    impl_->render_items(scene, frame, chunk_triangles);
+}
 
 } // namespace clvis::detail

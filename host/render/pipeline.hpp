@@ -35,6 +35,8 @@ struct DeviceScene {
     void set_args(cl::Kernel& kernel, cl_uint first) const;
 };
 
+struct InstancedScene; // render/instanced_scene.hpp
+
 /// Collects the profiling events of a frame's kernels by stage name.
 class StageRecorder {
 public:
@@ -113,6 +115,9 @@ public:
     /// Enqueues every kernel of the raster path for `frame` (the clear included) and returns
     /// without waiting; the Renderer waits and collects the stage times.
     void render(const DeviceScene& scene, Frame& frame);
+    /// The same for a scene with instances, without its expansion: chunks of whole items of at
+    /// most `chunk_triangles` triangles (or one item), each merged into the keys.
+    void render(const InstancedScene& scene, Frame& frame, std::size_t chunk_triangles);
 
     struct Impl;
 

@@ -4,6 +4,7 @@
 #include "render/renderer_impl.hpp"
 
 #include "raster/raster_tune.hpp"
+#include "render/renderer_probe.hpp"
 
 #include <clvis/renderer.hpp>
 
@@ -158,9 +159,8 @@ Renderer::Renderer(Device device, const Scene& scene, RenderOptions options) : i
         impl_->queue = impl_->dev().make_queue();
         // A plain scene is uploaded now (errors surface here); one with instances when a path
         // that reads the expansion first runs.
-        bool instanced = false;
-        for (const Scene::Mesh& item : scene.meshes()) instanced |= item.prototype != Scene::no_prototype;
-        if (!instanced) impl_->scene_buffers();
+        for (const Scene::Mesh& item : scene.meshes()) impl_->instanced |= item.prototype != Scene::no_prototype;
+        if (!impl_->instanced) impl_->scene_buffers();
     });
 }
 
@@ -251,7 +251,8 @@ void Renderer::Impl::render(const Camera& camera, int width, int height, const R
     else ray_pipeline(path == Path::Ray);
     try {
         auto t0 = std::chrono::steady_clock::now();
-        if (path == Path::Raster) raster->render(scene_buffers(), frame);
+        if (path == Path::Raster && instanced) raster->render(item_buffers(), frame, raster_chunk);
+        else if (path == Path::Raster) raster->render(scene_buffers(), frame);
         else ray->render(path == Path::Brute ? scene_buffers() : gpu, frame, path == Path::Brute);
         queue.finish();
         auto t1 = std::chrono::steady_clock::now();
@@ -312,8 +313,26 @@ void Renderer::Impl::update(const Scene& now_scene)
         }
         first += vertices;
     }
+    m.items_uploaded = false; // uploaded again when next drawn: records are a few dozen bytes per item
     if (m.ray && m.ray->built()) m.ray->update(m.scene, m.queue);
 }
+
+namespace detail {
+
+void set_raster_chunk(Renderer& renderer, std::size_t triangles)
+{
+    RendererAccess::of(renderer, "set_raster_chunk").raster_chunk = std::max<std::size_t>(triangles, 1);
+}
+
+bool expansion_uploaded(Renderer& renderer) { return RendererAccess::of(renderer, "expansion_uploaded").uploaded; }
+
+std::uint64_t item_device_bytes(Renderer& renderer)
+{
+    Renderer::Impl& m = RendererAccess::of(renderer, "item_device_bytes");
+    return m.items_uploaded ? m.items.device_bytes : 0;
+}
+
+} // namespace detail
 
 const FrameTiming& Renderer::last_frame() const { return checked("Renderer::last_frame").last; }
 const BvhStats& Renderer::bvh_stats() const

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "runtime/cl_runtime.hpp"
+#include "render/instanced_scene.hpp"
 #include "render/pipeline.hpp"
 
 #include <clvis/renderer.hpp>
@@ -18,6 +19,10 @@ struct Renderer::Impl {
     cl::CommandQueue queue;
     detail::DeviceScene gpu; ///< the expansion on the device: read it through scene_buffers()
     bool uploaded = false;
+    bool instanced = false; ///< the scene has instances: the raster path reads `items`
+    detail::InstancedScene items; ///< the meshes once and a record per item: read it through item_buffers()
+    bool items_uploaded = false;
+    std::size_t raster_chunk = detail::default_raster_chunk; ///< triangles per chunk of items
     std::unique_ptr<detail::RasterPipeline> raster;
     std::unique_ptr<detail::RayPipeline> ray;
     FrameTiming last;
@@ -36,6 +41,13 @@ struct Renderer::Impl {
         return gpu;
     }
     void upload_positions(std::size_t first_vertex, std::size_t count);
+    /// The scene with instances without its expansion, uploaded on first use (again after an update).
+    detail::InstancedScene& item_buffers()
+    {
+        if (!items_uploaded) items.upload(scene, dev(), queue);
+        items_uploaded = true;
+        return items;
+    }
     detail::RayPipeline& ray_pipeline(bool need_bvh);
     std::optional<RasterMappingChoice> mapping; ///< options.raster_mapping resolved, once needed
     /// The raster mapping, resolved on first use (Auto: the tuner, raster/raster_tune.hpp).

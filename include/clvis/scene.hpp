@@ -58,8 +58,9 @@ public:
     /// Adds an instance of prototype `prototype` as the next item (its ids follow the items
     /// before it) and returns its item index in meshes(). Error(InvalidArgument) for a prototype
     /// that does not exist or a transform add_mesh would refuse; Error(Limit) past max_triangles.
-    /// Today the device still receives the expansion (world_positions); the prototype is stored
-    /// once on the host.
+    /// The prototype is stored once on the host, and on the device by the ray and raster paths;
+    /// Path::Brute, ray queries with brute set, resolve and shading still upload the expansion
+    /// (world_positions).
     std::size_t add_instance(std::size_t prototype, const Mat4& transform);
 
     /// Replaces the positions of mesh `mesh` (same vertex count): animation. Renderers that
