@@ -379,6 +379,13 @@ TEST_CASE("the raster path of an instanced scene never uploads the expansion", "
     CHECK(bytes <= 24 * spot.triangle_count() + 12 * spot.vertex_count() + 64 * 300 + 64); // mesh once, 64 B an item
     CHECK(bytes >= 12 * spot.triangle_count());
     CHECK(same_bits(got, re.render(cam, 96, 64, Path::Raster).read()));
+    // A batch of views draws each as alone, still without the expansion.
+    std::vector<Camera> views{cam, eye_at_origin()};
+    VisibilityBatch batch(device, 2, 96, 64);
+    render_views(r, views, Path::Raster, batch);
+    for (int v = 0; v < 2; ++v)
+        CHECK(batch.view(v).read_keys() == r.render(views[std::size_t(v)], 96, 64, Path::Raster).read_keys());
+    CHECK_FALSE(detail::expansion_uploaded(r));
     // Moving an instance draws it moved, still without the expansion.
     Mat4 moved = placed(1.0, 0.5, {3, 3, 1}, {1, 1, 1});
     s.set_transform(7, moved);

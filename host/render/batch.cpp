@@ -94,7 +94,8 @@ void render_views(Renderer& renderer, const std::vector<Camera>& cameras, Path p
                 frame.gpu_camera = gpu[std::size_t(v)];
                 frame.keys = cl::Buffer(target.view(v).keys(), true);
                 frame.stages = &m.stages;
-                if (path == Path::Raster) m.raster->render(m.scene_buffers(), frame);
+                if (path == Path::Raster && m.instanced) m.raster->render(m.item_buffers(), frame, m.raster_chunk);
+                else if (path == Path::Raster) m.raster->render(m.scene_buffers(), frame);
                 else m.ray->render(m.scene_buffers(), frame, true);
             }
         }
