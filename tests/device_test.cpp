@@ -74,7 +74,7 @@ TEST_CASE("every embedded kernel builds on the device", "[device][rusticl]")
             if (d.info().int64_atomics) return {"", "-DCLVIS_RASTER_OWNED"};
             return {"-DCLVIS_RASTER_OWNED"};
         }
-        if (name == "ray_trace") return {"-DCLVIS_RAY_STACK=64"};
+        if (name == "ray_trace" || name == "ray_trace_single") return {"-DCLVIS_RAY_STACK=64"};
         if (name == "ray_query") {
             std::vector<std::string> kinds;
             for (int kind : {CLVIS_QUERY_CLOSEST, CLVIS_QUERY_ANY, CLVIS_QUERY_COUNT})
