@@ -98,9 +98,18 @@ expect(0 "\"raster_mapping\": \"pixel\",[ \n]+\"raster_mapping_source\": \"force
 set(ENV{CLVIS_TUNE_RASTER_MAPPING} tiles)
 expect(2 "^clvis: .*CLVIS_TUNE_RASTER_MAPPING must name one of square, pixel, got 'tiles'" render ${MESH} ${size})
 unset(ENV{CLVIS_TUNE_RASTER_MAPPING})
-# The ray path's mapping, chosen, is reported; the single mapping renders.
-expect(0 "\"ray_mapping\": \"single\"" render ${MESH} ${size} --path ray --ray-mapping single --json)
-expect(0 "\"ray_mapping\": \"packet\"" render ${MESH} ${size} --path ray --json)
+# The ray path's mapping, chosen or measured, is reported with where it came from; the single
+# mapping renders.
+expect(0 "\"ray_mapping\": \"single\",[ \n]+\"ray_mapping_source\": \"option\"" render ${MESH} ${size} --path ray --ray-mapping single --json)
+expect(0 "\"ray_mapping\": \"packet\",[ \n]+\"ray_mapping_source\": \"option\"" render ${MESH} ${size} --path ray --ray-mapping packet --json)
+expect(0 "\"ray_mapping\": \"(packet|single)\",[ \n]+\"ray_mapping_ms\": {[^}]*\"single\"[^}]*},[ \n]+\"ray_mapping_source\": \"(measured|cache)\"" render ${MESH} ${size} --path ray --ray-mapping auto --json)
+expect(0 "\"ray_mapping\": \"auto\"" render ${MESH} ${size} --path raster --json)
+set(ENV{CLVIS_TUNE_RAY_MAPPING} single)
+expect(0 "\"ray_mapping\": \"single\",[ \n]+\"ray_mapping_source\": \"forced\"" render ${MESH} ${size} --path ray --json)
+set(ENV{CLVIS_TUNE_RAY_MAPPING} rays)
+expect(2 "^clvis: .*CLVIS_TUNE_RAY_MAPPING must name one of packet, single, got 'rays'" render ${MESH} ${size} --path ray)
+unset(ENV{CLVIS_TUNE_RAY_MAPPING})
+expect(2 "ray-mapping" render ${MESH} ${size} --path ray --ray-mapping rays)
 if(WITH_IMAGE_IO)
   expect(0 "" render ${WORK}/scene.json --image ${WORK}/scene.png --ids ${WORK}/scene.tif --path raster --quiet)
   expect(0 "" render ${WORK}/scene.json --ids ${WORK}/scene-ray.tif --path ray --quiet)

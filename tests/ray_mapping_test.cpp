@@ -183,11 +183,12 @@ TEST_CASE("the single mapping gives the packet mapping's keys where the exact fa
                800);
 }
 
-TEST_CASE("ray mappings are named packet and single, others refused")
+TEST_CASE("ray mappings are named auto, packet and single, others refused")
 {
+    CHECK(ray_mapping_from_string("auto") == RayMapping::Auto);
     CHECK(ray_mapping_from_string("packet") == RayMapping::Packet);
     CHECK(ray_mapping_from_string("single") == RayMapping::Single);
     CHECK(std::string(to_string(RayMapping::Single)) == "single");
-    CHECK_THROWS_AS(ray_mapping_from_string("pixel"), Error);
-    CHECK(RenderOptions{}.ray_mapping == RayMapping::Packet);
+    CHECK_THROWS_WITH(ray_mapping_from_string("pixel"), Catch::Contains("auto, packet or single"));
+    CHECK(RenderOptions{}.ray_mapping == RayMapping::Auto);
 }

@@ -28,7 +28,7 @@ struct RenderArgs {
     SceneInput scene;
     CameraOptions camera;
     DeviceOptions device;
-    std::string path = "raster", raster_mapping = "auto", ray_mapping = "packet"; ///< RenderOptions' mappings
+    std::string path = "raster", raster_mapping = "auto", ray_mapping = "auto"; ///< RenderOptions' mappings
     std::string ids, depth, image, shade = "lambert", cull = "none", raster_atomics = "auto";
     std::string coverage = "watertight"; ///< the ray paths' inside test (RenderOptions::coverage)
     std::string bary, normals, position; ///< attributes resolved from the buffer (EXR)
@@ -335,7 +335,8 @@ nlohmann::json render_json(const RenderArgs& a, const SceneFile& file, const Cam
     j["raster_atomics"] = a.raster_atomics != "auto" ? a.raster_atomics : device.int64_atomics ? "on" : "off";
     bool raster = std::any_of(results.begin(), results.end(), [](const PathResult& r) { return r.path == Path::Raster; });
     add_raster_mapping_json(j, raster ? &renderer : nullptr, a.raster_mapping);
-    j["ray_mapping"] = a.ray_mapping;
+    bool ray = std::any_of(results.begin(), results.end(), [](const PathResult& r) { return r.path == Path::Ray; });
+    add_ray_mapping_json(j, ray ? &renderer : nullptr, a.ray_mapping);
     j["load_ms"] = load_ms;
     j["warm_up"] = a.repeat > 0 || a.timings;
     j["camera"] = camera.to_flags();
@@ -473,8 +474,9 @@ void add_render_command(CLI::App& app)
                     "raster fine stage: square (CPUs), pixel (GPUs) or auto (measured per device, cached); same keys")
         ->check(CLI::IsMember({"auto", "square", "pixel"}));
     cmd->add_option("--ray-mapping", args->ray_mapping,
-                    "ray path: packet (a work-item per 4x4 rays, CPUs) or single (a work-item per ray, GPUs); same keys")
-        ->check(CLI::IsMember({"packet", "single"}));
+                    "ray path: packet (a work-item per 4x4 rays, CPUs), single (a work-item per ray, GPUs) or auto "
+                    "(measured per device, cached); same keys")
+        ->check(CLI::IsMember({"auto", "packet", "single"}));
     cmd->add_option("--leaf-size", args->leaf, "BVH: triangles per leaf at most");
     args->spread.add_to(*cmd);
     cmd->add_option("--coverage", args->coverage,

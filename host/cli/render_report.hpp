@@ -1,5 +1,5 @@
 // Parts of `clvis render --json` that say how a frame was made: its stage times and the raster
-// mapping that ran (RasterMapping::Auto resolved).
+// and ray mappings that ran (RasterMapping::Auto and RayMapping::Auto resolved).
 #pragma once
 
 #include <clvis/clvis.hpp>
@@ -17,5 +17,9 @@ nlohmann::json stages_json(const FrameTiming& t);
 /// forced, cache or measured) and, when measured, "raster_mapping_ms" {square, pixel}; without a
 /// renderer (the raster path did not run), to `asked` alone.
 void add_raster_mapping_json(nlohmann::json& j, Renderer* renderer, const std::string& asked);
+
+/// The same for the ray path (Path::Ray): "ray_mapping", "ray_mapping_source", "ray_mapping_ms"
+/// {packet, single}.
+void add_ray_mapping_json(nlohmann::json& j, Renderer* renderer, const std::string& asked);
 
 } // namespace clvis::cli

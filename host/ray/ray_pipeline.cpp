@@ -56,7 +56,7 @@ double ms_since(std::chrono::steady_clock::time_point t0)
 struct RayPipeline::Impl {
     Device::Impl& device;
     RenderOptions options;
-    bool single; ///< RayMapping::Single: ray_trace_single.cl, a work-item per pixel
+    bool single; ///< RayMapping::Single: ray_trace_single.cl, a work-item per pixel (Auto: packets until set_mapping)
     cl::Kernel trace, trace_views, brute;
     cl::NDRange trace_group, views_group, brute_group; ///< work-items per work-group
     int trace_stack = 0;                  ///< CLVIS_RAY_STACK of the built trace kernel
@@ -250,6 +250,16 @@ RayPipeline::RayPipeline(Device::Impl& device, const RenderOptions& options)
 RayPipeline::~RayPipeline() = default;
 
 void RayPipeline::build(const Scene& scene, cl::CommandQueue& queue) { impl_->rebuild(scene, queue); }
+
+void RayPipeline::set_mapping(RayMapping mapping)
+{
+    Impl& m = *impl_;
+    bool single = mapping == RayMapping::Single;
+    if (single == m.single) return;
+    m.single = single;
+    m.trace_stack = 0; // the other kernel: built again, now if the tree is there
+    if (m.built) m.prepare_trace();
+}
 
 void RayPipeline::update(const Scene& scene, cl::CommandQueue& queue)
 {

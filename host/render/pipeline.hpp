@@ -135,6 +135,9 @@ public:
     /// Follows changed positions: refit or rebuild as options.bvh.update says; with instances,
     /// only the plain meshes' tree and the top level change.
     void update(const Scene& scene, cl::CommandQueue& queue);
+    /// The primary rays' mapping (Packet or Single; RenderOptions' Auto traces packets until the
+    /// Renderer resolves it): another one remakes the trace kernels.
+    void set_mapping(RayMapping mapping);
     bool built() const;
     const BvhStats& stats() const;
     /// Enqueues the trace of one ray per pixel centre (through the BVH, or against every

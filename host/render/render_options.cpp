@@ -45,6 +45,7 @@ const char* to_string(RasterMapping mapping) noexcept
 const char* to_string(RayMapping mapping) noexcept
 {
     switch (mapping) {
+    case RayMapping::Auto: return "auto";
     case RayMapping::Packet: return "packet";
     case RayMapping::Single: return "single";
     }
@@ -76,9 +77,9 @@ RasterMapping raster_mapping_from_string(const std::string& name)
 
 RayMapping ray_mapping_from_string(const std::string& name)
 {
-    for (RayMapping m : {RayMapping::Packet, RayMapping::Single})
+    for (RayMapping m : {RayMapping::Auto, RayMapping::Packet, RayMapping::Single})
         if (name == to_string(m)) return m;
-    throw Error(Error::Kind::InvalidArgument, "unknown ray mapping '" + name + "' (packet or single)");
+    throw Error(Error::Kind::InvalidArgument, "unknown ray mapping '" + name + "' (auto, packet or single)");
 }
 
 int samples_log2(int samples)

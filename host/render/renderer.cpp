@@ -5,6 +5,7 @@
 
 #include "raster/raster_tune.hpp"
 #include "render/renderer_probe.hpp"
+#include "ray/ray_tune.hpp"
 
 #include <clvis/renderer.hpp>
 
@@ -141,9 +142,16 @@ RasterPipeline& Renderer::Impl::raster_pipeline()
     return *raster;
 }
 
-RayPipeline& Renderer::Impl::ray_pipeline(bool need_bvh)
+const RayMappingChoice& Renderer::Impl::ray_mapping()
+{
+    if (!ray_choice) ray_choice = choose_ray_mapping(device, options);
+    return *ray_choice;
+}
+
+RayPipeline& Renderer::Impl::ray_pipeline(bool need_bvh, bool primary_rays)
 {
     if (!ray) ray = std::make_unique<RayPipeline>(dev(), options);
+    if (primary_rays) ray->set_mapping(ray_mapping().mapping); // before the build makes its kernel
     if (need_bvh && !ray->built()) ray->build(scene, queue);
     return *ray;
 }
@@ -180,7 +188,7 @@ void Renderer::prepare(Path path)
     Impl& m = checked("Renderer::prepare");
     error_boundary(std::string("preparing the ") + to_string(path) + " path", [&] {
         if (path == Path::Raster) m.raster_pipeline();
-        else m.ray_pipeline(path == Path::Ray);
+        else m.ray_pipeline(path == Path::Ray, path == Path::Ray);
     });
 }
 
@@ -248,7 +256,7 @@ void Renderer::Impl::render(const Camera& camera, int width, int height, const R
     frame.stages = &stages;
     // Build what the path needs before the clock starts: the frame is only its kernels.
     if (path == Path::Raster) raster_pipeline();
-    else ray_pipeline(path == Path::Ray);
+    else ray_pipeline(path == Path::Ray, path == Path::Ray);
     try {
         auto t0 = std::chrono::steady_clock::now();
         if (path == Path::Raster && instanced) raster->render(item_buffers(), frame, raster_chunk);
@@ -345,6 +353,11 @@ const RasterMappingChoice& Renderer::raster_mapping()
 {
     Impl& m = checked("Renderer::raster_mapping");
     return error_boundary("choosing the raster mapping", [&]() -> const RasterMappingChoice& { return m.raster_mapping(); });
+}
+const RayMappingChoice& Renderer::ray_mapping()
+{
+    Impl& m = checked("Renderer::ray_mapping");
+    return error_boundary("choosing the ray mapping", [&]() -> const RayMappingChoice& { return m.ray_mapping(); });
 }
 const Device& Renderer::device() const { return checked("Renderer::device").device; }
 

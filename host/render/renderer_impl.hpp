@@ -48,7 +48,13 @@ struct Renderer::Impl {
         items_uploaded = true;
         return items;
     }
-    detail::RayPipeline& ray_pipeline(bool need_bvh);
+    /// The ray pipeline, made on first use; the BVH built when `need_bvh`; the primary rays'
+    /// mapping resolved and applied when `primary_rays` (Path::Ray's frames and views; the brute
+    /// path and the ray queries need none).
+    detail::RayPipeline& ray_pipeline(bool need_bvh, bool primary_rays = false);
+    std::optional<RayMappingChoice> ray_choice; ///< options.ray_mapping resolved, once needed
+    /// The ray mapping, resolved on first use (Auto: the tuner, ray/ray_tune.hpp).
+    const RayMappingChoice& ray_mapping();
     std::optional<RasterMappingChoice> mapping; ///< options.raster_mapping resolved, once needed
     /// The raster mapping, resolved on first use (Auto: the tuner, raster/raster_tune.hpp).
     const RasterMappingChoice& raster_mapping();

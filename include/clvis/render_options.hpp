@@ -2,7 +2,7 @@
 // Plain types without OpenCL, shared by the Renderer, the paths behind it, the referee and the
 // tools. Every RenderOptions field means the same on every path (Path::Raster, Path::Ray,
 // Path::Brute): `cull` changes the answer, and every path and the referee apply it alike;
-// `tile_size`, `raster_atomics`, `raster_mapping` and `bvh` only tune one path's speed and never change an answer;
+// `tile_size`, `raster_atomics`, `raster_mapping`, `ray_mapping` and `bvh` only tune one path's speed and never change an answer;
 // `coverage` picks the ray paths' tie rule on shared edges (both answers are right, see Coverage).
 #pragma once
 
@@ -117,14 +117,28 @@ struct RasterMappingChoice {
 /// How the ray path's primary rays (kernels/ray_trace*.cl) map onto a device. Both give the same
 /// keys, bit for bit.
 enum class RayMapping {
+    /// Packet or Single, whichever ran faster on this device: measured on a short synthetic
+    /// workload the first time a device, driver, kernel build and coverage mode are met, then read
+    /// from the cache folder (as RasterMapping::Auto). CLVIS_TUNE_CACHE=0 measures every time;
+    /// CLVIS_TUNE_RAY_MAPPING=packet or single forces the choice. Renderer::ray_mapping() reports it.
+    Auto,
     Packet, ///< a work-item per packet of 4x4 pixels, one ray per lane of 16-wide vectors walking
             ///< the BVH together (suits CPU devices: PoCL runs the lanes as SIMD)
     Single, ///< a work-item per pixel, a work-group per tile of pixels, each ray walking alone (GPUs)
 };
 
 const char* to_string(RayMapping mapping) noexcept;
-/// "packet" or "single"; throws Error(InvalidArgument) otherwise.
+/// "auto", "packet" or "single"; throws Error(InvalidArgument) otherwise.
 RayMapping ray_mapping_from_string(const std::string& name);
+
+/// The ray mapping a Renderer's ray path runs and where it came from (Renderer::ray_mapping()).
+struct RayMappingChoice {
+    RayMapping mapping = RayMapping::Packet; ///< Packet or Single, never Auto
+    /// "option", "forced" (CLVIS_TUNE_RAY_MAPPING), "cache" or "measured", as RasterMappingChoice
+    std::string source = "option";
+    /// Auto's measurement (the fastest frame of the tuning workload, host wall ms; -1 when not measured)
+    double packet_ms = -1, single_ms = -1;
+};
 
 struct RenderOptions {
     int tile_size = 0;      ///< raster tile edge in pixels (a power of two); 0 picks the default
@@ -134,7 +148,7 @@ struct RenderOptions {
     Cull cull = Cull::None; ///< face culling, on every path (see Cull)
     RasterAtomics raster_atomics = RasterAtomics::Auto; ///< the raster path's depth test (see RasterAtomics)
     RasterMapping raster_mapping = RasterMapping::Auto; ///< the raster fine stage's mapping (see RasterMapping)
-    RayMapping ray_mapping = RayMapping::Packet; ///< the ray path's primary-ray mapping (see RayMapping)
+    RayMapping ray_mapping = RayMapping::Auto; ///< the ray path's primary-ray mapping (see RayMapping)
     BvhOptions bvh;         ///< the ray path's tree (Path::Ray; the brute path has none)
     Coverage coverage = Coverage::Watertight; ///< the ray paths' inside test (see Coverage)
     /// Samples per pixel: 1, 2, 4, 8 or 16, at the standard positions of CONVENTIONS.md

@@ -57,6 +57,11 @@ public:
     /// or for RasterMapping::Auto the tuner's choice for this device, made when first needed (the
     /// first raster frame, prepare(Path::Raster), or this call), measuring when nothing is cached.
     const RasterMappingChoice& raster_mapping();
+    /// The ray path's primary-ray mapping this Renderer runs and where it came from: options()'s,
+    /// or for RayMapping::Auto the tuner's choice for this device, made when first needed (the
+    /// first Path::Ray frame or batch of views, prepare(Path::Ray), or this call), measuring when
+    /// nothing is cached. The brute path and the ray queries need no mapping.
+    const RayMappingChoice& ray_mapping();
 
     struct Impl;
 

@@ -1,0 +1,80 @@
+// The mapping tuners' workload (tune_workload.hpp).
+#include "render/tune_workload.hpp"
+
+#include "runtime/cl_runtime.hpp"
+#include "runtime/embedded_kernels.hpp"
+#include "runtime/tune_cache.hpp"
+
+#include <clvis/procedural.hpp>
+#include <clvis/renderer.hpp>
+#include <clvis/version.hpp>
+
+#include <algorithm>
+
+namespace clvis::detail {
+
+namespace {
+
+/// The tuning frame: large enough that the measured stage dominates (raster: triangles of tens of
+/// pixels, binned rather than drawn at setup, two layers deep), short enough to cost well under a
+/// second on a CPU device. Changing it changes tune_workload_name.
+constexpr int tune_width = 640, tune_height = 480;
+constexpr std::size_t tune_sphere_triangles = 6000, tune_grid_triangles = 6000;
+constexpr int tune_frames = 3; ///< timed frames per candidate at most, after one untimed
+/// Timed frames stop once they took this long (ms) in all, after the first: a slow mapping on a
+/// slow device (the pixel mapping on llvmpipe, 2 s a frame) is not timed three times.
+constexpr double tune_budget_ms = 500;
+
+const Scene& tuning_scene()
+{
+    static const Scene scene = [] {
+        Scene s;
+        s.add_mesh(make_grid(tune_grid_triangles, 21));
+        s.add_mesh(make_uv_sphere(tune_sphere_triangles));
+        return s;
+    }();
+    return scene;
+}
+
+} // namespace
+
+const char* const tune_workload_name = "sphere6000+grid6000@640x480 min(3 frames, 500 ms) frame_ms v3";
+
+TuneKey tune_device_key(const Device& device, std::initializer_list<const char*> names)
+{
+    std::string text = version() + "\n" + device.impl()->build_options("");
+    for (const char* name : names) text += embedded_kernel(name);
+    const DeviceInfo& info = device.info();
+    return {{"device", info.name},
+            {"platform", info.platform},
+            {"driver", info.driver_version},
+            {"kernels", stable_hash(text)}};
+}
+
+double measure_tune_frames(const Device& device, const RenderOptions& options, Path path)
+{
+    Renderer renderer(device, tuning_scene(), options);
+    Camera camera = Camera::perspective({0.3, 1.4, 2.6}, {0, 0, 0}, {0, 1, 0}, 50, 0.1, 20);
+    VisibilityBuffer target(device, tune_width, tune_height);
+    renderer.render(camera, path, target); // untimed: the driver's first launch
+    double best = -1, spent = 0;
+    for (int frame = 0; frame < tune_frames && spent < tune_budget_ms; ++frame) {
+        renderer.render(camera, path, target);
+        double ms = renderer.last_frame().frame_ms;
+        best = best < 0 ? ms : std::min(best, ms);
+        spent += ms;
+    }
+    return best;
+}
+
+TunedMapping tune_mapping(const TuneRequest& request)
+{
+    TuneResult result = tune(request, TuneSettings::from_environment(request));
+    TunedMapping m{result.choice, to_string(result.source)};
+    for (const TuneTime& t : result.times)
+        for (std::size_t i = 0; i < 2 && i < request.candidates.size(); ++i)
+            if (t.candidate == request.candidates[i]) m.ms[i] = t.ms;
+    return m;
+}
+
+} // namespace clvis::detail
