@@ -48,12 +48,13 @@ struct DeviceInfo {
 /// with a message that says how to install one (PoCL).
 std::vector<DeviceInfo> list_devices();
 
-/// A choice clvis measured on a device and keeps in its cache folder (RasterMapping::Auto).
+/// A choice clvis measured on a device and keeps in its cache folder (RasterMapping::Auto,
+/// RayMapping::Auto).
 struct TunedChoice {
-    std::string name; ///< what was chosen: "raster_mapping"
+    std::string name; ///< what was chosen: "raster_mapping" or "ray_mapping"
     /// What else it depends on (field, value): the kernels' hash, depth test, tile size, ...
     std::vector<std::pair<std::string, std::string>> key;
-    std::string choice;                                   ///< "square", "pixel", ...
+    std::string choice;                                   ///< "square", "pixel", "packet", "single"
     std::vector<std::pair<std::string, double>> times_ms; ///< each candidate's measured time
 };
 
