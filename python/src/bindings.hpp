@@ -142,12 +142,14 @@ inline auto option_args()
     return std::make_tuple(nb::kw_only(), nb::arg("tile") = 0, nb::arg("cull") = "none", nb::arg("leaf_size") = 4,
                            nb::arg("sah_bins") = 16, nb::arg("bvh_update") = "refit",
                            nb::arg("raster_atomics") = "auto", nb::arg("coverage") = "watertight",
-                           nb::arg("samples") = 1, nb::arg("raster_mapping") = "auto");
+                           nb::arg("samples") = 1, nb::arg("raster_mapping") = "auto",
+                           nb::arg("ray_mapping") = "auto");
 }
 
 /// The RenderOptions of a Renderer's keyword arguments, named as the command line names them.
 RenderOptions render_options(int tile, const std::string& cull, int leaf_size, int sah_bins,
                              const std::string& bvh_update, const std::string& raster_atomics,
-                             const std::string& coverage, int samples, const std::string& raster_mapping);
+                             const std::string& coverage, int samples, const std::string& raster_mapping,
+                             const std::string& ray_mapping);
 
 } // namespace clvis::python

@@ -83,10 +83,10 @@ void bind_multi_device(nb::module_& m)
     const auto init = [](PyMultiRenderer* self, const std::vector<Device>& devices, PyScene& scene, int tile,
                          const std::string& cull, int leaf_size, int sah_bins, const std::string& bvh_update,
                          const std::string& raster_atomics, const std::string& coverage, int samples,
-                         const std::string& raster_mapping) {
+                         const std::string& raster_mapping, const std::string& ray_mapping) {
         // samples > 1: the C++ MultiDeviceRenderer refuses it, naming it.
         const RenderOptions o = render_options(tile, cull, leaf_size, sah_bins, bvh_update, raster_atomics, coverage,
-                                               samples, raster_mapping);
+                                               samples, raster_mapping, ray_mapping);
         unlocked(scene.lock, [&] { new (self) PyMultiRenderer{MultiDeviceRenderer(devices, scene.scene, o), {}, {}}; });
     };
     std::apply([&](auto... options) { c.def("__init__", init, nb::arg("devices"), nb::arg("scene"), options...); },

@@ -22,9 +22,12 @@ Path path_named(const std::string& name)
 
 RenderOptions render_options(int tile, const std::string& cull, int leaf_size, int sah_bins,
                              const std::string& bvh_update, const std::string& raster_atomics,
-                             const std::string& coverage, int samples, const std::string& raster_mapping)
+                             const std::string& coverage, int samples, const std::string& raster_mapping,
+                             const std::string& ray_mapping)
 {
     RenderOptions o;
+    o.ray_mapping = parse_choice<RayMapping>(
+        ray_mapping, "ray_mapping", {{"auto", RayMapping::Auto}, {"packet", RayMapping::Packet}, {"single", RayMapping::Single}});
     o.raster_mapping = parse_choice<RasterMapping>(
         raster_mapping, "raster_mapping",
         {{"auto", RasterMapping::Auto}, {"square", RasterMapping::Square}, {"pixel", RasterMapping::Pixel}});
@@ -309,7 +312,8 @@ const char* renderer_doc =
     "cull ('none', 'back', 'front'), leaf_size and sah_bins (the BVH), bvh_update ('refit', 'rebuild'),\n"
     "raster_atomics ('auto', 'on': 64-bit atomic depth test, 'off': tile ownership; the same keys),\n"
     "raster_mapping (the raster fine stage: 'square' for CPUs, 'pixel' for GPUs, 'auto' measured per\n"
-    "device and cached; the same keys),\n"
+    "device and cached; the same keys), ray_mapping (the ray path's primary rays: 'packet' for CPUs,\n"
+    "'single' for GPUs, 'auto' measured per device and cached; the same keys),\n"
     "coverage (the ray paths' inside test: 'watertight', or 'raster-rule': the raster path's own\n"
     "rule, so that ray and raster buffers are bit-identical), samples (per pixel: 1, 2, 4, 8 or 16 at\n"
     "the standard positions; with more than 1, render() returns (H, W, samples) arrays, the samples of\n"
@@ -328,9 +332,9 @@ void bind_render(nb::module_& m)
     const auto init = [](PyRenderer* self, const Device& device, PyScene& scene, int tile, const std::string& cull,
                          int leaf_size, int sah_bins, const std::string& bvh_update,
                          const std::string& raster_atomics, const std::string& coverage, int samples,
-                         const std::string& raster_mapping) {
+                         const std::string& raster_mapping, const std::string& ray_mapping) {
         const RenderOptions o = render_options(tile, cull, leaf_size, sah_bins, bvh_update, raster_atomics, coverage,
-                                               samples, raster_mapping);
+                                               samples, raster_mapping, ray_mapping);
         unlocked(scene.lock, [&] {
             const auto triangles = std::uint32_t(scene.scene.triangle_count());
             new (self) PyRenderer{Renderer(device, scene.scene, o), {}, triangles, nullptr, {}};
@@ -386,7 +390,23 @@ void bind_render(nb::module_& m)
             "The raster fine stage's mapping this Renderer runs, as a dict: mapping ('square' or 'pixel'),\n"
             "source ('option', 'forced', 'cache' or 'measured': raster_mapping='auto' measures both once\n"
             "per device and keeps the answer in the cache folder) and the measured square_ms and pixel_ms\n"
-            "(None when not measured). Reading it resolves 'auto' when no raster frame has yet.");
+            "(None when not measured). Reading it resolves 'auto' when no raster frame has yet.")
+        .def_prop_ro(
+            "ray_mapping",
+            [](PyRenderer& r) {
+                const RayMappingChoice c = unlocked(r.lock, [&] { return r.renderer.ray_mapping(); });
+                const auto ms = [](double v) { return v < 0 ? nb::none() : nb::cast(v); };
+                nb::dict d;
+                d["mapping"] = to_string(c.mapping);
+                d["source"] = c.source;
+                d["packet_ms"] = ms(c.packet_ms);
+                d["single_ms"] = ms(c.single_ms);
+                return d;
+            },
+            "The ray path's primary-ray mapping this Renderer runs, as a dict: mapping ('packet' or\n"
+            "'single'), source ('option', 'forced', 'cache' or 'measured', as raster_mapping) and the measured\n"
+            "packet_ms and single_ms (None when not measured). Reading it resolves 'auto' when no ray frame\n"
+            "has yet.");
     bind_ray_queries(r);
     bind_outputs(r);
 }

@@ -58,6 +58,28 @@ def test_every_raster_mapping_gives_the_same_buffer(device, bunny):
         clvis.Renderer(device, bunny, raster_mapping="tiles")
 
 
+def test_every_ray_mapping_gives_the_same_buffer(device, bunny):
+    camera = clvis.Camera.framing(bunny.bounds())
+    renders = {}
+    for mapping in ("auto", "packet", "single"):
+        renderer = clvis.Renderer(device, bunny, ray_mapping=mapping)
+        renders[mapping] = renderer.render(camera, W, H, path="ray")
+        chosen = renderer.ray_mapping
+        if mapping == "auto":  # measured by this session (its own cache folder, conftest.py) or read back
+            assert chosen["source"] in ("measured", "cache")
+            assert chosen["packet_ms"] > 0 and chosen["single_ms"] > 0
+            fastest = "single" if chosen["single_ms"] < chosen["packet_ms"] else "packet"
+            assert chosen["mapping"] == fastest
+        else:
+            assert chosen == {"mapping": mapping, "source": "option", "packet_ms": None, "single_ms": None}
+    assert (renders["packet"].ids != clvis.background_id).sum() > 0.05 * W * H
+    for mapping in ("auto", "single"):
+        assert np.array_equal(renders[mapping].ids, renders["packet"].ids)
+        assert np.array_equal(renders[mapping].depth.view(np.uint32), renders["packet"].depth.view(np.uint32))
+    with pytest.raises(ValueError, match="ray_mapping"):
+        clvis.Renderer(device, bunny, ray_mapping="warp")
+
+
 @pytest.mark.parametrize("mesh", ["spot.obj", "teapot.obj", "suzanne.obj"])
 def test_raster_and_ray_agree_on_the_bundled_meshes(device, mesh):
     scene = clvis.load_scene(SCENES / mesh)
