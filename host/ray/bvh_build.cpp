@@ -8,6 +8,7 @@
 #include "ray/bvh_build.hpp"
 
 #include "ray/bvh_box.hpp"
+#include "ray/bvh_build_split.hpp"
 #include "ray/bvh_full.hpp"
 
 #include <algorithm>
@@ -20,96 +21,6 @@
 namespace clvis::detail {
 
 namespace {
-
-constexpr float inf = std::numeric_limits<float>::infinity();
-
-/// One triangle as the build sees it, 32 bytes: its box, with its id in the bits of lane 3 of lo
-/// (masked off before any arithmetic; hi's lane 3 is 0). The build reorders these themselves (not
-/// indices to them), so every pass reads memory in order.
-struct Prim {
-    v4f lo, hi;
-
-    std::uint32_t id() const
-    {
-        v4i bits = reinterpret_cast<v4i>(lo);
-        return std::uint32_t(bits[3]);
-    }
-    /// The box, lane 3 of both corners 0.
-    VBox box() const
-    {
-        v4i bits = reinterpret_cast<v4i>(lo) & v4i{-1, -1, -1, 0};
-        return {reinterpret_cast<v4f>(bits), hi};
-    }
-};
-
-/// The centroid of a box: the centre, halves first (the sum of two huge finite coordinates
-/// would overflow).
-inline v4f centroid(const VBox& b) { return b.lo * 0.5f + b.hi * 0.5f; }
-
-/// A range of the id array with its bounds and its centroids' bounds.
-struct Range {
-    std::uint32_t begin = 0, end = 0;
-    Box box = Box::none(), cbox = Box::none();
-    std::uint32_t count() const { return end - begin; }
-};
-
-constexpr int max_bins = 256;
-
-/// Per-axis bins; only the first `bins` of each axis are set up and used (a node's split must not
-/// pay for clearing all max_bins).
-struct Bins {
-    VBox box[3][max_bins];
-    std::uint32_t count[3][max_bins];
-
-    explicit Bins(int bins)
-    {
-        for (int a = 0; a < 3; ++a)
-            for (int k = 0; k < bins; ++k) {
-                box[a][k] = VBox::none();
-                count[a][k] = 0;
-            }
-    }
-    void merge(const Bins& o, int bins)
-    {
-        for (int a = 0; a < 3; ++a)
-            for (int k = 0; k < bins; ++k) {
-                box[a][k].grow(o.box[a][k]);
-                count[a][k] += o.count[a][k];
-            }
-    }
-};
-
-/// Maps a centroid coordinate to its bin. In float: the scale comes from the extent in double
-/// (finite even for huge coordinates, at most FLT_MAX for tiny ones), and an overflowing product
-/// (+inf) clamps to the last bin; no NaN can arise.
-struct BinMap {
-    bool valid[3];
-    int bins;
-    v4f lo, scale, last; ///< in lanes 0-2: the centroids' lower corner, bins per unit, bins - 1
-
-    BinMap(const Box& cbox, int bins_) : bins(bins_)
-    {
-        float s[3];
-        for (int a = 0; a < 3; ++a) {
-            double extent = double(cbox.hi[a]) - double(cbox.lo[a]);
-            valid[a] = extent > 0;
-            s[a] = valid[a] ? float(std::min<double>(bins * (1 - 1e-6) / extent, FLT_MAX)) : 0.0f;
-        }
-        lo = v4f{cbox.lo[0], cbox.lo[1], cbox.lo[2], 0.0f};
-        scale = v4f{s[0], s[1], s[2], 0.0f};
-        float l = float(bins - 1);
-        last = v4f{l, l, l, l};
-    }
-    /// The bins of centroid c on the three axes: (c - lo) * scale clamped to [0, bins - 1].
-    v4i bins3(v4f c) const
-    {
-        v4f k = (c - lo) * scale;
-        v4f zero{0.0f, 0.0f, 0.0f, 0.0f};
-        k = k < zero ? zero : k; // std::max(k, 0.0f)
-        k = last < k ? last : k; // std::min(k, bins - 1)
-        return __builtin_convertvector(k, v4i);
-    }
-};
 
 class Builder {
 public:
@@ -198,52 +109,17 @@ public:
         BinMap map(r.cbox, bins);
         Bins binned(bins);
         bin(r, map, workers, binned);
-        // Sweep each axis: cost of splitting after bin k = areas times counts of both sides.
-        double best = std::numeric_limits<double>::infinity();
-        int best_axis = -1, best_k = 0;
-        for (int a = 0; a < 3; ++a) {
-            if (!map.valid[a]) continue;
-            double right_cost[max_bins];
-            VBox acc = VBox::none();
-            std::uint32_t cnt = 0;
-            // A side that holds no centroid has an empty box and costs 0; any other box is not empty.
-            // An empty bin leaves both sides as they were, so its cost is that of the bin before it
-            // (never strictly better): it is skipped.
-            right_cost[bins - 1] = 0.0;
-            for (int k = bins - 1; k > 0; --k) {
-                if (binned.count[a][k] == 0) {
-                    if (k < bins - 1) right_cost[k] = right_cost[k + 1];
-                    continue;
-                }
-                acc.grow(binned.box[a][k]);
-                cnt += binned.count[a][k];
-                right_cost[k] = acc.half_area() * cnt;
-            }
-            acc = VBox::none();
-            cnt = 0;
-            for (int k = 0; k < bins - 1; ++k) {
-                if (binned.count[a][k] == 0) continue;
-                acc.grow(binned.box[a][k]);
-                cnt += binned.count[a][k];
-                if (cnt == 0 || cnt == n) continue;
-                double cost = acc.half_area() * cnt + right_cost[k + 1];
-                if (cost < best) {
-                    best = cost;
-                    best_axis = a;
-                    best_k = k;
-                }
-            }
-        }
-        if (best_axis < 0) { // every centroid in one bin on every axis: only rounding apart
+        BinSplit best = sweep_bins(binned, map, n);
+        if (best.axis < 0) { // every centroid in one bin on every axis: only rounding apart
             if (!must_split) return false;
             split_median(r, left, right);
             return true;
         }
         double area = r.box.half_area();
         double leaf_cost = area * n;
-        double split_cost = traversal_cost * area + best;
+        double split_cost = traversal_cost * area + best.cost;
         if (!must_split && leaf_cost <= split_cost) return false;
-        partition(r, map, best_axis, best_k, left, right);
+        partition_prims(prims_.data(), r, map, best.axis, best.k, left, right);
         return true;
     }
 
@@ -263,76 +139,21 @@ private:
     void bin(const Range& r, const BinMap& map, unsigned workers, Bins& out) const
     {
         int bins = map.bins;
-        auto bin_part = [&](std::uint32_t b, std::uint32_t e, Bins& out) {
-            for (std::uint32_t i = b; i < e; ++i) {
-                VBox box = prims_[i].box();
-                // An axis without extent bins everything into bin 0 ((c - lo) is 0 there) and is
-                // never swept: no branch per axis.
-                v4i k = map.bins3(centroid(box));
-                for (int a = 0; a < 3; ++a) {
-                    out.box[a][k[a]].grow(box);
-                    ++out.count[a][k[a]];
-                }
-            }
-        };
         std::uint32_t n = r.count();
         unsigned parts = std::min<unsigned>(workers, std::max<std::uint32_t>(1, n / 65536));
         if (parts <= 1) {
-            bin_part(r.begin, r.end, out);
+            bin_prims(prims_.data(), r.begin, r.end, map, out);
             return;
         }
-        // Bins merge by min, max and sums: exact and order-free, so the split does not depend
-        // on the number of parts.
         std::vector<Bins> partial(parts, Bins(bins));
         std::vector<std::thread> pool;
         for (unsigned t = 0; t < parts; ++t) {
             std::uint32_t b = r.begin + std::uint32_t(std::uint64_t(n) * t / parts);
             std::uint32_t e = r.begin + std::uint32_t(std::uint64_t(n) * (t + 1) / parts);
-            pool.emplace_back(bin_part, b, e, std::ref(partial[t]));
+            pool.emplace_back([&, b, e, t] { bin_prims(prims_.data(), b, e, map, partial[t]); });
         }
         for (auto& th : pool) th.join();
         for (unsigned t = 0; t < parts; ++t) out.merge(partial[t], bins);
-    }
-
-    void bounds(std::uint32_t b, std::uint32_t e, Range& out) const
-    {
-        out.begin = b;
-        out.end = e;
-        VBox box = VBox::none(), cbox = VBox::none();
-        for (std::uint32_t i = b; i < e; ++i) {
-            VBox p = prims_[i].box();
-            box.grow(p);
-            cbox.grow(centroid(p));
-        }
-        out.box = box.box();
-        out.cbox = cbox.box();
-    }
-
-    void partition(const Range& r, const BinMap& map, int axis, int k, Range& left, Range& right) const
-    {
-        std::uint32_t i = r.begin, j = r.end;
-        VBox lbox = VBox::none(), lcbox = VBox::none(), rbox = VBox::none(), rcbox = VBox::none();
-        while (i < j) {
-            VBox p = prims_[i].box();
-            v4f c = centroid(p);
-            if (map.bins3(c)[axis] <= k) {
-                lbox.grow(p);
-                lcbox.grow(c);
-                ++i;
-            } else {
-                rbox.grow(p);
-                rcbox.grow(c);
-                std::swap(prims_[i], prims_[--j]);
-            }
-        }
-        left.box = lbox.box();
-        left.cbox = lcbox.box();
-        right.box = rbox.box();
-        right.cbox = rcbox.box();
-        left.begin = r.begin;
-        left.end = i;
-        right.begin = i;
-        right.end = r.end;
     }
 
     /// With full_leaves, ranges of up to this many leaves split by split_full (larger ones by the
@@ -351,15 +172,15 @@ private:
         };
         std::size_t k = full_leaves_split(prims_.begin() + r.begin, prims_.begin() + r.end,
                                           std::size_t(opt_.max_leaf_size), [](const Prim& p) { return p.box().box(); }, less);
-        bounds(r.begin, r.begin + std::uint32_t(k), left);
-        bounds(r.begin + std::uint32_t(k), r.end, right);
+        range_bounds(prims_.data(), r.begin, r.begin + std::uint32_t(k), left);
+        range_bounds(prims_.data(), r.begin + std::uint32_t(k), r.end, right);
     }
 
     void split_in_order(const Range& r, Range& left, Range& right) const
     {
         std::uint32_t mid = r.begin + r.count() / 2;
-        bounds(r.begin, mid, left);
-        bounds(mid, r.end, right);
+        range_bounds(prims_.data(), r.begin, mid, left);
+        range_bounds(prims_.data(), mid, r.end, right);
     }
 
     void split_median(const Range& r, Range& left, Range& right) const
@@ -380,8 +201,8 @@ private:
                              float cx = centroid(x.box())[axis], cy = centroid(y.box())[axis];
                              return cx < cy || (cx == cy && x.id() < y.id());
                          });
-        bounds(r.begin, mid, left);
-        bounds(mid, r.end, right);
+        range_bounds(prims_.data(), r.begin, mid, left);
+        range_bounds(prims_.data(), mid, r.end, right);
     }
 
     std::vector<Prim>& prims_;

@@ -1,0 +1,110 @@
+// One node's binned SAH split (Wald, "On fast construction of SAH-based bounding volume
+// hierarchies", 2007) for bvh_build.cpp: binning, the sweep over the bins of all three axes at
+// once without data-dependent branches, and the in-place partition.
+#include "ray/bvh_build_split.hpp"
+
+#include <limits>
+
+namespace clvis::detail {
+
+void bin_prims(const Prim* prims, std::uint32_t b, std::uint32_t e, const BinMap& map, Bins& out)
+{
+    for (std::uint32_t i = b; i < e; ++i) {
+        VBox box = prims[i].box();
+        // An axis without extent bins everything into bin 0 ((c - lo) is 0 there) and is never
+        // swept: no branch per axis.
+        v4i k = map.bins3(centroid(box));
+        for (int a = 0; a < 3; ++a) {
+            out.box[a][k[a]].grow(box);
+            ++out.count[a][k[a]];
+        }
+    }
+}
+
+BinSplit sweep_bins(const Bins& bins, const BinMap& map, std::uint32_t n)
+{
+    // Cost of splitting after bin k = areas times counts of both sides. A side that holds no
+    // centroid costs nothing and is never chosen. An empty bin grows nothing (its box is none),
+    // so its cost repeats the bin before it bit for bit and, compared strictly, never wins: every
+    // bin is swept alike, with selects instead of branches.
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    int nb = map.bins;
+    double right_cost[3][max_bins]; // [a][k]: the side of bins k..nb-1
+    VBox acc[3] = {VBox::none(), VBox::none(), VBox::none()};
+    std::uint32_t cnt[3] = {0, 0, 0};
+    for (int k = nb - 1; k > 0; --k)
+        for (int a = 0; a < 3; ++a) {
+            acc[a].grow(bins.box[a][k]);
+            cnt[a] += bins.count[a][k];
+            double cost = acc[a].half_area() * cnt[a];
+            right_cost[a][k] = cnt[a] != 0 ? cost : 0.0;
+        }
+    double best[3] = {inf, inf, inf};
+    int best_k[3] = {0, 0, 0};
+    for (int a = 0; a < 3; ++a) {
+        acc[a] = VBox::none();
+        cnt[a] = 0;
+    }
+    for (int k = 0; k < nb - 1; ++k)
+        for (int a = 0; a < 3; ++a) {
+            acc[a].grow(bins.box[a][k]);
+            cnt[a] += bins.count[a][k];
+            double cost = acc[a].half_area() * cnt[a] + right_cost[a][k + 1];
+            bool better = cnt[a] != 0 && cnt[a] != n && cost < best[a];
+            best[a] = better ? cost : best[a];
+            best_k[a] = better ? k : best_k[a];
+        }
+    BinSplit s;
+    double cheapest = inf;
+    for (int a = 0; a < 3; ++a)
+        if (map.valid[a] && best[a] < cheapest) {
+            cheapest = best[a];
+            s.axis = a;
+            s.k = best_k[a];
+        }
+    s.cost = cheapest;
+    return s;
+}
+
+void partition_prims(Prim* prims, const Range& r, const BinMap& map, int axis, int k, Range& left, Range& right)
+{
+    std::uint32_t i = r.begin, j = r.end;
+    VBox lbox = VBox::none(), lcbox = VBox::none(), rbox = VBox::none(), rcbox = VBox::none();
+    while (i < j) {
+        VBox p = prims[i].box();
+        v4f c = centroid(p);
+        if (map.bins3(c)[axis] <= k) {
+            lbox.grow(p);
+            lcbox.grow(c);
+            ++i;
+        } else {
+            rbox.grow(p);
+            rcbox.grow(c);
+            std::swap(prims[i], prims[--j]);
+        }
+    }
+    left.box = lbox.box();
+    left.cbox = lcbox.box();
+    right.box = rbox.box();
+    right.cbox = rcbox.box();
+    left.begin = r.begin;
+    left.end = i;
+    right.begin = i;
+    right.end = r.end;
+}
+
+void range_bounds(const Prim* prims, std::uint32_t b, std::uint32_t e, Range& out)
+{
+    out.begin = b;
+    out.end = e;
+    VBox box = VBox::none(), cbox = VBox::none();
+    for (std::uint32_t i = b; i < e; ++i) {
+        VBox p = prims[i].box();
+        box.grow(p);
+        cbox.grow(centroid(p));
+    }
+    out.box = box.box();
+    out.cbox = cbox.box();
+}
+
+} // namespace clvis::detail
