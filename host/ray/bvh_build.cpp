@@ -1,15 +1,16 @@
 // Binned SAH BVH build (Wald, "On fast construction of SAH-based bounding volume hierarchies",
 // 2007). Near the root the binning of a node is spread over the threads and its two children are
-// built on separate threads, each into its own depth-first array, then spliced in order; splits
-// depend only on the triangles (bins merge exactly), so the result does not depend on the
-// threads. Where the SAH cannot split (every centroid in one point) or the tree grows too deep,
-// an object median split takes over, so degenerate scenes terminate quickly. Boxes, centroids and
-// bins are handled three axes at a time in SSE-sized vectors, with the scalar operations' order.
+// built as separate tasks on the process's thread pool (runtime/thread_pool.hpp), each into its
+// own depth-first array, then spliced in order; splits depend only on the triangles (bins merge
+// exactly), so the result does not depend on the threads. Where the SAH cannot split (every
+// centroid in one point) or the tree grows too deep, an object median split takes over, so
+// degenerate scenes terminate quickly. One node's split is bvh_build_split.cpp.
 #include "ray/bvh_build.hpp"
 
 #include "ray/bvh_box.hpp"
 #include "ray/bvh_build_split.hpp"
 #include "ray/bvh_full.hpp"
+#include "runtime/thread_pool.hpp"
 
 #include <algorithm>
 #include <cfloat>
@@ -64,9 +65,10 @@ public:
         std::vector<clvis_bvh_node> right_nodes;
         right_nodes.reserve(std::size_t(right.count()) * 2);
         int depth_right = 0;
-        std::thread worker([&] { depth_right = build_parallel(right, depth + 1, threads_right, right_nodes); });
+        TaskGroup group;
+        group.run([&] { depth_right = build_parallel(right, depth + 1, threads_right, right_nodes); });
         int depth_left = build_parallel(left, depth + 1, threads - threads_right, out);
-        worker.join();
+        group.wait();
         std::uint32_t offset = std::uint32_t(out.size());
         out[self].first = offset;
         for (clvis_bvh_node node : right_nodes) {
@@ -146,13 +148,9 @@ private:
             return;
         }
         std::vector<Bins> partial(parts, Bins(bins));
-        std::vector<std::thread> pool;
-        for (unsigned t = 0; t < parts; ++t) {
-            std::uint32_t b = r.begin + std::uint32_t(std::uint64_t(n) * t / parts);
-            std::uint32_t e = r.begin + std::uint32_t(std::uint64_t(n) * (t + 1) / parts);
-            pool.emplace_back([&, b, e, t] { bin_prims(prims_.data(), b, e, map, partial[t]); });
-        }
-        for (auto& th : pool) th.join();
+        parallel_slices(n, parts, [&](unsigned part, std::size_t b, std::size_t e) {
+            bin_prims(prims_.data(), r.begin + std::uint32_t(b), r.begin + std::uint32_t(e), map, partial[part]);
+        });
         for (unsigned t = 0; t < parts; ++t) out.merge(partial[t], bins);
     }
 
@@ -230,12 +228,9 @@ template <class F> void parallel_for(std::size_t n, unsigned threads, F body)
         for (std::size_t i = 0; i < n; ++i) body(i);
         return;
     }
-    std::vector<std::thread> pool;
-    for (unsigned t = 0; t < parts; ++t)
-        pool.emplace_back([&, t] {
-            for (std::size_t i = n * t / parts; i < n * (t + 1) / parts; ++i) body(i);
-        });
-    for (auto& th : pool) th.join();
+    parallel_slices(n, parts, [&](unsigned, std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) body(i);
+    });
 }
 
 } // namespace
