@@ -51,10 +51,11 @@ struct Bins {
 
     explicit Bins(int bins)
     {
-        for (int a = 0; a < 3; ++a) {
-            std::fill(box[a], box[a] + bins, VBox::none());
-            std::fill(count[a], count[a] + bins, 0u);
-        }
+        for (int k = 0; k < bins; ++k) // one loop for the three axes: one exit to predict
+            for (int a = 0; a < 3; ++a) {
+                box[a][k] = VBox::none();
+                count[a][k] = 0;
+            }
     }
     /// Bins merge by min, max and sums: exact, so the split does not depend on how the range
     /// was cut into parts.
