@@ -20,6 +20,18 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
     uint begin = offsets[tile], end = offsets[tile + 1];
     begin = first < end - begin ? begin + first : end;
     end = chunk < end - begin ? begin + chunk : end;
+    int n_log2 = cam.sample_log2;
+    if (begin == end) { /* an empty bin (or chunk): nothing to merge, or the background to write */
+        if (merge) return;
+        for (int j = py0; j <= py1; ++j) {
+            __global ulong* row = keys + (((size_t)j * (size_t)region.width + (size_t)px0) << n_log2) + (size_t)cam.sample;
+            int i = 0;
+            if (n_log2 == 0)
+                for (; i + 8 <= px1 - px0 + 1; i += 8) vstore8((ulong8)(CLVIS_BACKGROUND_KEY), 0, row + i);
+            for (; i <= px1 - px0; ++i) row[(size_t)i << n_log2] = CLVIS_BACKGROUND_KEY;
+        }
+        return;
+    }
 
     ulong8 best[CLVIS_FINE_SUB][CLVIS_FINE_SPANS];
     for (int r = 0; r < CLVIS_FINE_SUB; ++r)
@@ -52,7 +64,6 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
             ulong8 b = best[j - py0][s];
             int i0 = px0 + 8 * s, count = min(8, px1 - i0 + 1);
             /* the camera's sample of each pixel: samples of a pixel are adjacent (shared/samples.h) */
-            int n_log2 = cam.sample_log2;
             __global ulong* row = keys + (((size_t)j * (size_t)region.width + (size_t)i0) << n_log2) + (size_t)cam.sample;
             if (merge && all(b == (ulong8)(CLVIS_BACKGROUND_KEY))) continue; /* nothing to merge */
             if (count == 8 && n_log2 == 0) {
