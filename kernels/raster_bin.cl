@@ -1,7 +1,8 @@
 /* Raster path, stage 2 of 3: bins the triangles that raster_setup.cl listed into screen tiles.
    raster_bin_count counts the triangles touching each tile, raster_bin_scan turns the counts
-   into bin offsets (the host sizes the bins from its total), raster_bin_fill writes each bin;
-   raster_fine.cl walks the bins. Only 32-bit atomics: it builds on devices without 64-bit ones. */
+   into bin offsets, raster_bin_fill writes each bin (the entries its capacity holds: the host
+   reads the total back at the end of the frame and redraws it with larger bins when they
+   overflowed); raster_fine.cl walks the bins. Only 32-bit atomics: it builds on devices without 64-bit ones. */
 #include "shared/raster.h"
 
 /* Calls BODY(tile) for every tile of `tile_log2` whose pixel centres triangle t may cover. */
@@ -26,11 +27,18 @@ __kernel void raster_bin_zero(__global uint* words, uint count)
     if (i < count) words[i] = 0;
 }
 
-__kernel void raster_bin_count(__global const clvis_raster_tri* tris, uint count, int tile_log2, int tiles_x,
-                               volatile __global uint* tile_counts)
+/* The triangles raster_setup.cl stored: those it listed (`listed`, two words), at most `capacity`.
+   Read on the device, so the host launches the bins over the list's capacity without waiting. */
+static uint listed_count(__global const uint* listed, uint capacity)
+{
+    return listed[1] != 0u ? capacity : min(listed[0], capacity);
+}
+
+__kernel void raster_bin_count(__global const clvis_raster_tri* tris, __global const uint* listed, uint capacity,
+                               int tile_log2, int tiles_x, volatile __global uint* tile_counts)
 {
     uint k = (uint)get_global_id(0);
-    if (k >= count) return;
+    if (k >= listed_count(listed, capacity)) return;
     clvis_raster_tri t = tris[k];
     CLVIS_FOR_EACH_TILE(t, tile_log2, tiles_x, atomic_inc(&tile_counts[tile]))
 }
@@ -76,11 +84,12 @@ __kernel void raster_bin_scan(__global const uint* tile_counts, uint tile_count,
     }
 }
 
-__kernel void raster_bin_fill(__global const clvis_raster_tri* tris, uint count, int tile_log2, int tiles_x,
-                              volatile __global uint* cursors, __global uint* entries, uint capacity)
+__kernel void raster_bin_fill(__global const clvis_raster_tri* tris, __global const uint* listed, uint tri_capacity,
+                              int tile_log2, int tiles_x, volatile __global uint* cursors, __global uint* entries,
+                              uint capacity)
 {
     uint k = (uint)get_global_id(0);
-    if (k >= count) return;
+    if (k >= listed_count(listed, tri_capacity)) return;
     clvis_raster_tri t = tris[k];
     CLVIS_FOR_EACH_TILE(t, tile_log2, tiles_x, {
         uint slot = atomic_inc(&cursors[tile]);

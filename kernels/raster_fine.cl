@@ -1,7 +1,8 @@
 /* Raster path, stage 3 of 3: rasterizes the binned triangles of raster_bin.cl tile by tile. A
    work-item owns a square of up to CLVIS_FINE_SUB pixels a side inside one tile, walks the tile's
    bin (or a `chunk` of it from `first`: the host splits long bins over launches for devices that
-   cap loops), evaluates only the 8-pixel row spans each triangle's box touches
+   cap loops; a square whose bin ran past the bins' `capacity` writes nothing, the host redraws
+   the frame with larger bins), evaluates only the 8-pixel row spans each triangle's box touches
    (clvis_raster_span8), keeps the nearest keys in private memory, then stores them: merged with
    what is there when `merge` (the small triangles raster_setup.cl drew with atomics, or an
    earlier chunk), or as they are, background included (tile ownership's first launch: every key
@@ -10,7 +11,8 @@
 
 __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const uint* entries,
                           __global const uint* offsets, int tile_log2, int tiles_x, clvis_camera_gpu cam,
-                          __global ulong* keys, clvis_region region, uint first, uint chunk, int merge)
+                          __global ulong* keys, clvis_region region, uint first, uint chunk, int merge,
+                          uint capacity)
 {
     int sub = min(1 << tile_log2, CLVIS_FINE_SUB);
     int px0 = (int)get_global_id(0) * sub, py0 = (int)get_global_id(1) * sub;
@@ -18,6 +20,7 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
     int px1 = min(px0 + sub, region.width) - 1, py1 = min(py0 + sub, region.height) - 1;
     uint tile = (uint)(py0 >> tile_log2) * (uint)tiles_x + (uint)(px0 >> tile_log2);
     uint begin = offsets[tile], end = offsets[tile + 1];
+    if (end > capacity) return; /* the bins overflowed: the host redraws the frame */
     begin = first < end - begin ? begin + first : end;
     end = chunk < end - begin ? begin + chunk : end;
     int n_log2 = cam.sample_log2;
@@ -90,7 +93,7 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
 __kernel void raster_fine_pixel(__global const clvis_raster_tri* tris, __global const uint* entries,
                                 __global const uint* offsets, int tile_log2, int tiles_x, clvis_camera_gpu cam,
                                 __global ulong* keys, clvis_region region, uint first, uint chunk, int merge,
-                                __local clvis_raster_tri* batch)
+                                uint capacity, __local clvis_raster_tri* batch)
 {
     int gw = (int)get_local_size(0), gh = (int)get_local_size(1);
     int px0 = (int)get_group_id(0) * gw, py0 = (int)get_group_id(1) * gh;
@@ -100,6 +103,7 @@ __kernel void raster_fine_pixel(__global const clvis_raster_tri* tris, __global 
     int inside = i < region.width && j < region.height;
     uint tile = (uint)(py0 >> tile_log2) * (uint)tiles_x + (uint)(px0 >> tile_log2);
     uint begin = offsets[tile], end = offsets[tile + 1];
+    if (end > capacity) return; /* the bins overflowed (the whole group): the host redraws the frame */
     begin = first < end - begin ? begin + first : end;
     end = chunk < end - begin ? begin + chunk : end;
 

@@ -2,18 +2,21 @@
 // at once (64-bit atomic min) and lists the others; raster_bin.cl bins those into tiles (count,
 // scan, fill); raster_fine.cl rasterizes each tile's bin. Under tile ownership (RasterAtomics::Off,
 // or Auto on a device without 64-bit atomics) setup lists every triangle and raster_fine.cl writes
-// every key once, with no clear and no atomics on the keys. On a device that caps the loop
+// every key once, with no clear and no atomics on the keys (raster_fine.cl runs even when
+// nothing is listed, writing the background). On a device that caps the loop
 // iterations of a work-item (Device::Impl::loop_limit), raster_fine.cl walks long bins in several
 // launches. RasterMapping::Pixel runs raster_fine_pixel instead (a work-group per square of a
-// tile, a work-item per pixel, the bin walked in batches through local memory). The host plans
-// every capacity from counts read back during the frame and grows buffers (re-running the stage
-// that overflowed) rather than drop. A scene with instances is drawn without its expansion, in
+// tile, a work-item per pixel, the bin walked in batches through local memory). The list and the
+// bins keep their capacities from frame to frame; the bin kernels read the listed count on the
+// device, and the host reads the counts back once, after raster_fine.cl, growing what overflowed
+// and drawing the sample again (raster_fine.cl writes nothing for a bin past the capacity) rather
+// than drop. A scene with instances is drawn without its expansion, in
 // chunks of whole items (render/instanced_scene.hpp): per chunk raster_setup_item_vertices and
 // raster_setup_items, then the stages above, every chunk's keys merged into the same buffer.
 #include "render/pipeline.hpp"
 
 #include "render/instanced_scene.hpp"
-
+#include "render/renderer_probe.hpp"
 #include "runtime/cl_runtime.hpp"
 
 #include "shared/raster.h"
@@ -21,6 +24,7 @@
 #include <clvis/error.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -56,6 +60,12 @@ constexpr std::size_t scan_group = 256;
 /// First capacities of the growable buffers (elements); they double or jump to what a frame needs.
 constexpr std::size_t first_tri_capacity = raster_first_tri_capacity;
 constexpr std::size_t first_entry_capacity = std::size_t(1) << 14;
+/// The probe's first capacities (set_raster_first_capacities; 0: the defaults above).
+std::atomic<std::size_t> probe_tri_capacity{0}, probe_entry_capacity{0};
+
+/// What raster_setup.cl and raster_bin_scan count, read back once a sample: triangles listed,
+/// bin entries in all, entries of the longest bin.
+struct RasterCounts { cl_ulong listed, entries, longest; };
 
 std::size_t floor_pow2(std::size_t v)
 {
@@ -184,12 +194,12 @@ struct RasterPipeline::Impl {
         frame.stages->add(stage, done);
     }
 
-    /// The triangles setup listed (two 32-bit words).
-    cl_ulong read_listed(Frame& frame)
+    /// The counters once the sample's stages ran (the one blocking read-back of a sample).
+    RasterCounts read_counts(Frame& frame)
     {
-        cl_uint words[2] = {0, 0};
-        frame.queue.enqueueReadBuffer(counters, CL_TRUE, 0, sizeof words, words);
-        return cl_ulong(words[0]) | cl_ulong(words[1]) << 32;
+        struct { cl_uint listed[2]; cl_ulong entries, longest; } c{}; // the counters' layout
+        frame.queue.enqueueReadBuffer(counters, CL_TRUE, 0, sizeof c, &c);
+        return {cl_ulong(c.listed[0]) | cl_ulong(c.listed[1]) << 32, c.entries, c.longest};
     }
 
     /// Refuses a frame whose binning or scan loops would run past the device's loop limit.
@@ -221,21 +231,35 @@ struct RasterPipeline::Impl {
         frame.stages->add("setup", projected_done);
     }
 
-    /// Runs a setup launch (`enqueue` sets its list arguments from tris and tri_capacity and
-    /// enqueues it, signalling its event) until its list holds every triangle it lists; returns
-    /// how many that is.
-    template <class Enqueue> std::size_t listed_by(Frame& frame, Enqueue enqueue)
+    /// Runs a setup launch (`enqueue` sets its list arguments and enqueues it, signalling its
+    /// event), bins and draws what it lists (merged with the keys when `merge`), reads the counts
+    /// back; grows the list or bins and does it again until they held all (drawing again is
+    /// harmless: atomic min, merged by min, or every key written again).
+    template <class Enqueue> void draw_sample(Frame& frame, Enqueue enqueue, bool merge)
     {
+        int tile = 1 << tile_log2;
+        int tiles_x = (frame.width + tile - 1) / tile, tiles_y = (frame.height + tile - 1) / tile;
+        check_loops(std::size_t(tiles_x), std::size_t(tiles_y));
         for (;;) {
             cl::Event done;
             zero_words(frame, counters, 4, "setup");
             enqueue(done);
             frame.stages->add("setup", done);
-            cl_ulong listed = read_listed(frame);
-            if (listed <= tri_capacity) return std::size_t(listed);
-            // Small triangles already written (atomic mode) are harmless to write again (atomic min).
-            reserve(tris, tri_capacity, std::size_t(listed), sizeof(clvis_raster_tri), first_tri_capacity,
+            bin_listed(frame, tiles_x, std::size_t(tiles_x) * std::size_t(tiles_y));
+            launch_fine(frame, tiles_x, 0, merge);
+            RasterCounts c = read_counts(frame);
+            if (c.entries > 0xFFFFFFFFull)
+                throw Error(Error::Kind::Limit, "the raster path's bins would hold " + std::to_string(c.entries) +
+                                                    " entries, more than 32-bit offsets address");
+            if (c.listed <= tri_capacity && c.entries <= entry_capacity) {
+                // Long bins on a device that caps loops: the rest of each, merged.
+                for (cl_ulong first = fine_chunk; first < c.longest; first += fine_chunk)
+                    launch_fine(frame, tiles_x, first, true);
+                return;
+            }
+            reserve(tris, tri_capacity, std::size_t(c.listed), sizeof(clvis_raster_tri), first_tri_capacity,
                     "list of triangles to bin");
+            reserve(entries, entry_capacity, std::size_t(c.entries), sizeof(cl_uint), first_entry_capacity, "bins");
         }
     }
 
@@ -252,12 +276,12 @@ struct RasterPipeline::Impl {
         k.setArg(first + 6, sizeof frame.region, &frame.region);
     }
 
-    /// Runs setup and returns how many triangles it listed for binning (all of them stored);
-    /// projects the vertices first when `project` (once per frame: they do not depend on the sample).
-    std::size_t run_setup(const DeviceScene& scene, Frame& frame, bool project)
+    /// Draws frame.gpu_camera.sample: setup, binning, raster_fine.cl; projects the vertices first
+    /// when `project` (once per frame: they do not depend on the sample).
+    void render_sample(const DeviceScene& scene, Frame& frame, bool project)
     {
         if (project) project_vertices(scene, frame);
-        return listed_by(frame, [&](cl::Event& done) {
+        draw_sample(frame, [&](cl::Event& done) {
             setup.setArg(0, sizeof frame.gpu_camera, &frame.gpu_camera);
             setup.setArg(1, scene.positions);
             setup.setArg(2, scene.indices);
@@ -266,7 +290,7 @@ struct RasterPipeline::Impl {
             frame.queue.enqueueNDRangeKernel(setup, cl::NullRange,
                                              cl::NDRange(round_up(scene.triangle_count, setup_group)),
                                              cl::NDRange(setup_group), nullptr, &done);
-        });
+        }, false);
     }
 
     /// Sets the item kernels' first arguments: camera, positions, (indices,) meshes, items, the chunk.
@@ -303,15 +327,14 @@ struct RasterPipeline::Impl {
             frame.stages->add("setup", projected_done);
             for (int sample = 0; sample < samples; ++sample) {
                 frame.gpu_camera.sample = sample;
-                std::size_t listed = listed_by(frame, [&](cl::Event& done) {
+                draw_sample(frame, [&](cl::Event& done) {
                     cl_uint k = set_item_args(item_setup, scene, c, frame, true);
                     item_setup.setArg(k, cl_uint(c.triangle_count));
                     set_setup_outputs(item_setup, k + 1, frame);
                     frame.queue.enqueueNDRangeKernel(item_setup, cl::NullRange,
                                                      cl::NDRange(round_up(c.triangle_count, setup_group)),
                                                      cl::NDRange(setup_group), nullptr, &done);
-                });
-                if (listed > 0) draw_listed(frame, listed, true);
+                }, true);
             }
         }
         frame.gpu_camera.sample = 0;
@@ -348,11 +371,9 @@ struct RasterPipeline::Impl {
         reserve(projected, projected_capacity, scene.vertex_count, sizeof(clvis_raster_projected), 1,
                 "projected vertices");
         prepare_frame(frame);
-        // Tile ownership writes every key in raster_fine.cl: the clear is needed only when
-        // nothing is listed (and raster_fine.cl does not run), which with several samples per
-        // pixel one sample may meet while another draws, so then the clear comes first.
+        // Tile ownership writes every key of the sample in raster_fine.cl: no clear.
         int samples = 1 << frame.gpu_camera.sample_log2;
-        if (!owned || samples > 1) clear_keys(clear, frame);
+        if (!owned) clear_keys(clear, frame);
         // One pass per sample (shared/samples.h): setup moves the snapped vertices by minus the
         // sample's offset, and every stage after it is the one-sample path's.
         for (int sample = 0; sample < samples; ++sample) {
@@ -362,33 +383,20 @@ struct RasterPipeline::Impl {
         frame.gpu_camera.sample = 0;
     }
 
-    /// The stages after the clear for frame.gpu_camera.sample: setup, binning, raster_fine.cl.
-    void render_sample(const DeviceScene& scene, Frame& frame, bool project)
+    /// Bins what setup listed (the count read on the device, the launch over the list's capacity):
+    /// counts, scan, fill, within the bins' capacity.
+    void bin_listed(Frame& frame, int tiles_x, std::size_t tile_count)
     {
-        std::size_t listed = run_setup(scene, frame, project);
-        if (listed == 0) {
-            if (owned && frame.gpu_camera.sample_log2 == 0) clear_keys(clear, frame);
-            return;
-        }
-        draw_listed(frame, listed, false);
-    }
-
-    /// Bins the `listed` triangles setup listed and draws them (raster_fine.cl), merged with the
-    /// keys when `merge` (an earlier chunk of items drew) or as the depth test's first launch does.
-    void draw_listed(Frame& frame, std::size_t listed, bool merge)
-    {
-        int tile = 1 << tile_log2;
-        int tiles_x = (frame.width + tile - 1) / tile, tiles_y = (frame.height + tile - 1) / tile;
-        std::size_t tile_count = std::size_t(tiles_x) * std::size_t(tiles_y);
-        check_loops(std::size_t(tiles_x), std::size_t(tiles_y));
         cl::Event counted, scanned, filled;
         zero_words(frame, tile_counts, tile_count, "bin");
-        cl::NDRange bin_global(round_up(listed, bin_group)), bin_local(bin_group);
+        cl_uint list_capacity = cl_uint(std::min<std::size_t>(tri_capacity, 0xFFFFFFFFu));
+        cl::NDRange bin_global(round_up(tri_capacity, bin_group)), bin_local(bin_group);
         bin_count.setArg(0, tris);
-        bin_count.setArg(1, cl_uint(listed));
-        bin_count.setArg(2, cl_int(tile_log2));
-        bin_count.setArg(3, cl_int(tiles_x));
-        bin_count.setArg(4, tile_counts);
+        bin_count.setArg(1, counters);
+        bin_count.setArg(2, list_capacity);
+        bin_count.setArg(3, cl_int(tile_log2));
+        bin_count.setArg(4, cl_int(tiles_x));
+        bin_count.setArg(5, tile_counts);
         frame.queue.enqueueNDRangeKernel(bin_count, cl::NullRange, bin_global, bin_local, nullptr, &counted);
         frame.stages->add("bin", counted);
         bin_scan.setArg(0, tile_counts);
@@ -400,29 +408,21 @@ struct RasterPipeline::Impl {
         frame.queue.enqueueNDRangeKernel(bin_scan, cl::NullRange, cl::NDRange(scan_items), cl::NDRange(scan_items),
                                          nullptr, &scanned);
         frame.stages->add("bin", scanned);
-        cl_ulong bins[2] = {0, 0}; // entries in all, the longest bin
-        frame.queue.enqueueReadBuffer(counters, CL_TRUE, sizeof(cl_ulong), sizeof bins, bins);
-        cl_ulong total = bins[0];
-        if (total > 0xFFFFFFFFull)
-            throw Error(Error::Kind::Limit, "the raster path's bins would hold " + std::to_string(total) +
-                                                " entries, more than 32-bit offsets address");
-        reserve(entries, entry_capacity, std::size_t(total), sizeof(cl_uint), first_entry_capacity, "bins");
         bin_fill.setArg(0, tris);
-        bin_fill.setArg(1, cl_uint(listed));
-        bin_fill.setArg(2, cl_int(tile_log2));
-        bin_fill.setArg(3, cl_int(tiles_x));
-        bin_fill.setArg(4, cursors);
-        bin_fill.setArg(5, entries);
-        bin_fill.setArg(6, cl_uint(std::min<std::size_t>(entry_capacity, 0xFFFFFFFFu)));
+        bin_fill.setArg(1, counters);
+        bin_fill.setArg(2, list_capacity);
+        bin_fill.setArg(3, cl_int(tile_log2));
+        bin_fill.setArg(4, cl_int(tiles_x));
+        bin_fill.setArg(5, cursors);
+        bin_fill.setArg(6, entries);
+        bin_fill.setArg(7, cl_uint(std::min<std::size_t>(entry_capacity, 0xFFFFFFFFu)));
         frame.queue.enqueueNDRangeKernel(bin_fill, cl::NullRange, bin_global, bin_local, nullptr, &filled);
         frame.stages->add("bin", filled);
-
-        run_fine(frame, tiles_x, bins[1], merge);
     }
 
-    /// raster_fine.cl over every square, in as many launches as the longest bin needs on a device
-    /// that caps loops (one elsewhere); each launch after the first merges with the keys.
-    void run_fine(Frame& frame, int tiles_x, cl_ulong longest, bool merge)
+    /// raster_fine.cl over every square, for the bins' entries from `first` (a chunk of them on a
+    /// device that caps loops, all elsewhere); a launch after the first merges with the keys.
+    void launch_fine(Frame& frame, int tiles_x, cl_ulong first, bool merge)
     {
         fine.setArg(0, tris);
         fine.setArg(1, entries);
@@ -433,20 +433,17 @@ struct RasterPipeline::Impl {
         fine.setArg(6, frame.keys);
         fine.setArg(7, sizeof frame.region, &frame.region);
         fine.setArg(9, cl_uint(fine_chunk));
+        fine.setArg(11, cl_uint(std::min<std::size_t>(entry_capacity, 0xFFFFFFFFu)));
         std::size_t square = pixel ? 1 : fine_square(); // pixels a side per work-item
         std::size_t squares_x = (std::size_t(frame.width) + square - 1) / square;
         std::size_t squares_y = (std::size_t(frame.height) + square - 1) / square;
         cl::NDRange fine_global(round_up(squares_x, fine_group[0]), round_up(squares_y, fine_group[1]));
-        if (pixel) fine.setArg(11, cl::Local(fine_group[0] * fine_group[1] * sizeof(clvis_raster_tri)));
-        cl_ulong first = 0;
-        do {
-            cl::Event drawn;
-            fine.setArg(8, cl_uint(first));
-            fine.setArg(10, cl_int(merge || !owned || first > 0)); // setup drew (atomics), or an earlier launch did
-            frame.queue.enqueueNDRangeKernel(fine, cl::NullRange, fine_global, fine_group, nullptr, &drawn);
-            frame.stages->add("raster", drawn);
-            first += fine_chunk;
-        } while (first < longest);
+        if (pixel) fine.setArg(12, cl::Local(fine_group[0] * fine_group[1] * sizeof(clvis_raster_tri)));
+        cl::Event drawn;
+        fine.setArg(8, cl_uint(first));
+        fine.setArg(10, cl_int(merge || !owned || first > 0)); // setup drew (atomics), or an earlier launch did
+        frame.queue.enqueueNDRangeKernel(fine, cl::NullRange, fine_global, fine_group, nullptr, &drawn);
+        frame.stages->add("raster", drawn);
     }
 };
 
@@ -475,8 +472,10 @@ RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& option
         m.pick_groups();
         m.plan_fine_chunks();
         m.counters = m.make_buffer(3 * sizeof(cl_ulong));
-        m.reserve(m.tris, m.tri_capacity, first_tri_capacity, sizeof(clvis_raster_tri), first_tri_capacity,
-                  "list of triangles to bin");
+        std::size_t tris = probe_tri_capacity.load(), bins = probe_entry_capacity.load();
+        tris = tris ? tris : first_tri_capacity, bins = bins ? bins : first_entry_capacity;
+        m.reserve(m.tris, m.tri_capacity, tris, sizeof(clvis_raster_tri), tris, "list of triangles to bin");
+        m.reserve(m.entries, m.entry_capacity, bins, sizeof(cl_uint), bins, "bins");
     } catch (const cl::Error& e) {
         throw_cl_error(e, "preparing the raster path on " + device.info.name);
     }
@@ -490,6 +489,12 @@ void RasterPipeline::render(const InstancedScene& scene, Frame& frame, std::size
 {
     impl_->prepare_frame(frame);
     impl_->render_items(scene, frame, chunk_triangles);
+}
+
+void set_raster_first_capacities(std::size_t triangles, std::size_t entries)
+{
+    probe_tri_capacity.store(triangles);
+    probe_entry_capacity.store(entries);
 }
 
 } // namespace clvis::detail

@@ -1,0 +1,60 @@
+// The raster path's list of triangles to bin and its bins keep their capacities from frame to
+// frame and are sized without a read-back during the frame: a sample whose list or bins
+// overflowed is grown and drawn again, with the keys of a frame that never overflowed.
+#include "catch.hpp"
+#include "test_meshes.hpp"
+
+#include "render/renderer_probe.hpp"
+
+#include <clvis/clvis.hpp>
+
+#include <string>
+#include <vector>
+
+using namespace clvis;
+
+namespace {
+
+/// First capacities forced for the raster pipelines made while it lives (then the defaults).
+struct FirstCapacities {
+    FirstCapacities(std::size_t tris, std::size_t entries) { detail::set_raster_first_capacities(tris, entries); }
+    ~FirstCapacities() { detail::set_raster_first_capacities(0, 0); }
+};
+
+std::vector<std::uint64_t> keys(const Device& d, const Scene& s, const Camera& c, RasterAtomics mode, int samples,
+                                int frames = 1)
+{
+    RenderOptions o;
+    o.raster_atomics = mode;
+    o.samples = samples;
+    Renderer r(d, s, o);
+    std::vector<std::uint64_t> k;
+    for (int f = 0; f < frames; ++f) k = r.render(c, 203, 117, Path::Raster).read_keys();
+    return k;
+}
+
+} // namespace
+
+TEST_CASE("lists and bins past their first capacity are grown and redrawn", "[device][raster][rusticl]")
+{
+    Device d = Device::open();
+    Scene s;
+    s.add_mesh(load_mesh(std::string(CLVIS_SOURCE_DIR) + "/scenes/spot.obj"));
+    Bounds b = s.bounds();
+    std::vector<RasterAtomics> modes = {RasterAtomics::Off};
+    if (d.info().int64_atomics) modes.push_back(RasterAtomics::On);
+    for (const Camera& c : {Camera::framing(b), test::look(b.center() + Vec3{0.05, 0.1, 0.3},
+                                                           b.center() + Vec3{0, 0, -1}, 90, 0.01, 10)}) {
+        for (int samples : {1, 4}) {
+            INFO(c.to_flags() << ", " << samples << " samples");
+            std::vector<std::uint64_t> want = keys(d, s, c, RasterAtomics::Auto, samples);
+            CHECK(test::covered(split_keys(want.data(), 203, 117 * samples)) > 0);
+            FirstCapacities tiny(1, 1); // one triangle, one bin entry: every first sample overflows
+            for (RasterAtomics mode : modes) {
+                INFO(to_string(mode));
+                CHECK(keys(d, s, c, mode, samples) == want);
+                CHECK(keys(d, s, c, mode, samples, 3) == want); // capacities kept from frame to frame
+            }
+        }
+    }
+}
