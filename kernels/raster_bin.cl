@@ -20,7 +20,7 @@
     }
 
 /* Zeroes `count` words: the counters before raster_setup.cl lists triangles, the tile counts
-   before raster_bin_count. */
+   before raster_bin_count when a frame stopped before raster_bin_scan zeroed them. */
 __kernel void raster_bin_zero(__global uint* words, uint count)
 {
     uint i = (uint)get_global_id(0);
@@ -46,8 +46,9 @@ __kernel void raster_bin_count(__global const clvis_raster_tri* tris, __global c
 /* One work-group: each work-item sums a contiguous run of tiles, work-item 0 scans the sums, then
    each writes its run's offsets. offsets[tile_count] and counters[1] receive the total (64-bit:
    the host refuses totals that 32-bit offsets cannot hold), counters[2] the longest bin (the host
-   splits raster_fine.cl's launches by it where a device caps loops). */
-__kernel void raster_bin_scan(__global const uint* tile_counts, uint tile_count, __global uint* offsets,
+   splits raster_fine.cl's launches by it where a device caps loops). Each work-item zeroes the
+   counts of its run once read, so the next raster_bin_count needs no zeroing launch. */
+__kernel void raster_bin_scan(__global uint* tile_counts, uint tile_count, __global uint* offsets,
                               __global uint* cursors, __global ulong* counters, __local ulong* partial)
 {
     uint lid = (uint)get_local_id(0), size = (uint)get_local_size(0);
@@ -72,8 +73,10 @@ __kernel void raster_bin_scan(__global const uint* tile_counts, uint tile_count,
     for (uint i = begin; i < end; ++i) {
         offsets[i] = (uint)offset;
         cursors[i] = (uint)offset;
-        offset += tile_counts[i];
-        peak = max(peak, (ulong)tile_counts[i]);
+        uint n = tile_counts[i];
+        offset += n;
+        peak = max(peak, (ulong)n);
+        tile_counts[i] = 0u; /* zero for the next raster_bin_count */
     }
     barrier(CLK_LOCAL_MEM_FENCE); /* every offset read before the partials are reused */
     partial[lid] = peak;

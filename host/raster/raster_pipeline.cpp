@@ -2,17 +2,16 @@
 // at once (64-bit atomic min) and lists the others; raster_bin.cl bins those into tiles (count,
 // scan, fill); raster_fine.cl rasterizes each tile's bin. Under tile ownership (RasterAtomics::Off,
 // or Auto on a device without 64-bit atomics) setup lists every triangle and raster_fine.cl writes
-// every key once, with no clear and no atomics on the keys (raster_fine.cl runs even when
-// nothing is listed, writing the background). On a device that caps the loop
-// iterations of a work-item (Device::Impl::loop_limit), raster_fine.cl walks long bins in several
-// launches. RasterMapping::Pixel runs raster_fine_pixel instead (a work-group per square of a
-// tile, a work-item per pixel, the bin walked in batches through local memory). The list and the
+// every key once (the background too), with no clear and no atomics on the keys. On a device that
+// caps a work-item's loop iterations (Device::Impl::loop_limit), raster_fine.cl walks long bins in
+// several launches. RasterMapping::Pixel runs raster_fine_pixel instead (a work-group per square
+// of a tile, a work-item per pixel, the bin walked in batches through local memory). The list and
 // bins keep their capacities from frame to frame; the bin kernels read the listed count on the
-// device, and the host reads the counts back once, after raster_fine.cl, growing what overflowed
-// and drawing the sample again (raster_fine.cl writes nothing for a bin past the capacity) rather
-// than drop. A scene with instances is drawn without its expansion, in
-// chunks of whole items (render/instanced_scene.hpp): per chunk raster_setup_item_vertices and
-// raster_setup_items, then the stages above, every chunk's keys merged into the same buffer.
+// device, the host reads the counts back once, after raster_fine.cl (which writes nothing for a
+// bin past the capacity), and grows what overflowed and draws the sample again rather than drop.
+// A scene with instances is drawn without its expansion, in chunks of whole items
+// (render/instanced_scene.hpp): per chunk raster_setup_item_vertices and raster_setup_items, then
+// the stages above, every chunk's keys merged into the same buffer.
 #include "render/pipeline.hpp"
 
 #include "render/instanced_scene.hpp"
@@ -52,19 +51,16 @@ constexpr int default_tile_log2 = 4;
 constexpr std::size_t linear_group = 64;
 /// Work-items per group edge of raster_fine.cl (each owns a square of pixels), at most.
 constexpr std::size_t fine_group_edge = 4;
-/// Pixels per group edge of raster_fine_pixel, at most (the device's grant and local memory may
-/// allow fewer; the tile's edge caps it too).
+/// Pixels per group edge of raster_fine_pixel, at most (fewer where the grant, local memory or tile ask).
 constexpr std::size_t pixel_group_edge = 16;
 /// Work-items of the single work-group of raster_bin_scan, at most.
 constexpr std::size_t scan_group = 256;
 /// First capacities of the growable buffers (elements); they double or jump to what a frame needs.
-constexpr std::size_t first_tri_capacity = raster_first_tri_capacity;
-constexpr std::size_t first_entry_capacity = std::size_t(1) << 14;
+constexpr std::size_t first_tri_capacity = raster_first_tri_capacity, first_entry_capacity = std::size_t(1) << 14;
 /// The probe's first capacities (set_raster_first_capacities; 0: the defaults above).
 std::atomic<std::size_t> probe_tri_capacity{0}, probe_entry_capacity{0};
 
-/// What raster_setup.cl and raster_bin_scan count, read back once a sample: triangles listed,
-/// bin entries in all, entries of the longest bin.
+/// The counts read back once a sample: triangles listed, bin entries in all, the longest bin's.
 struct RasterCounts { cl_ulong listed, entries, longest; };
 
 std::size_t floor_pow2(std::size_t v)
@@ -105,6 +101,7 @@ struct RasterPipeline::Impl {
     cl::Buffer counters; ///< uint[2] triangles listed by setup (low, high word), ulong bin entries, ulong longest bin
     cl::Buffer projected, tris, entries, tile_counts, offsets, cursors;
     std::size_t projected_capacity = 0, tri_capacity = 0, entry_capacity = 0, tile_capacity = 0;
+    bool counts_zero = true; ///< tile_counts all zero (raster_bin_scan zeroes them once read)
 
     Impl(Device::Impl& d, const RenderOptions& o)
         : device(d), tile_log2(raster_tile_log2(o)), cull(cull_mode(o.cull)), owned(raster_owned(d.info, o)),
@@ -357,6 +354,7 @@ struct RasterPipeline::Impl {
             offsets = make_buffer((tiles + 1) * sizeof(cl_uint));
             cursors = make_buffer((tiles + 1) * sizeof(cl_uint));
             tile_capacity = tiles + 1;
+            counts_zero = true;
         }
     }
 
@@ -388,7 +386,8 @@ struct RasterPipeline::Impl {
     void bin_listed(Frame& frame, int tiles_x, std::size_t tile_count)
     {
         cl::Event counted, scanned, filled;
-        zero_words(frame, tile_counts, tile_count, "bin");
+        if (!counts_zero) zero_words(frame, tile_counts, tile_count, "bin");
+        counts_zero = false; // until raster_bin_scan is enqueued
         cl_uint list_capacity = cl_uint(std::min<std::size_t>(tri_capacity, 0xFFFFFFFFu));
         cl::NDRange bin_global(round_up(tri_capacity, bin_group)), bin_local(bin_group);
         bin_count.setArg(0, tris);
@@ -408,6 +407,7 @@ struct RasterPipeline::Impl {
         frame.queue.enqueueNDRangeKernel(bin_scan, cl::NullRange, cl::NDRange(scan_items), cl::NDRange(scan_items),
                                          nullptr, &scanned);
         frame.stages->add("bin", scanned);
+        counts_zero = true;
         bin_fill.setArg(0, tris);
         bin_fill.setArg(1, counters);
         bin_fill.setArg(2, list_capacity);
