@@ -1,13 +1,14 @@
 /* Answers ray queries for any batch of rays (closest hit, any hit, hit count; CONVENTIONS.md "Ray
-   queries"), one ray per work-item, through the 4-wide BVH that ray_trace.cl reads (shared/bvh.h);
+   queries"), a run of rays per work-item (CLVIS_QUERY_LANES of them walked interleaved), through
+   the 4-wide BVH that ray_trace.cl reads (shared/bvh.h);
    ray_query_brute tests every triangle in id order instead, the reference the BVH walk must
    equal. Rays and results live in buffers of either layout (shared/ray_query.h). Launched by
-   host/ray/ray_query.cpp, built once per query kind (CLVIS_QUERY) and stack size (CLVIS_RAY_STACK), on
-   PoCL's CPU device with CLVIS_PREFETCH. With CLVIS_INSTANCES (a scene with instances) the walk
+   host/ray/ray_query.cpp, built once per query kind (CLVIS_QUERY), stack size (CLVIS_RAY_STACK) and
+   lanes, on PoCL's CPU device with CLVIS_PREFETCH. With CLVIS_INSTANCES (a scene with instances) the walk
    starts in the top level of the two-level BVH and enters instances as ray_trace.cl does
    (shared/instance.h: world boxes widened conservatively, world vertices computed on the fly with
    the expansion's bits), so every answer equals the expansion's; without it the walk is the flat
-   tree's, unchanged.
+   tree's. The walk's order never changes an answer (ties go to the lower id whatever the order).
    No packet assumption: incoherent rays (ambient occlusion, shadows, random) walk on their own. */
 #include "shared/bvh.h"
 #include "shared/instance.h"
@@ -149,27 +150,38 @@ static void world_boxes(__global const clvis_bvh4_node* n, __global const clvis_
 }
 #endif
 
-/* clvis_ray_hits_box on the four children of a node at once: the same operations lane by lane. */
+/* clvis_ray_hits_box on the four children of a node at once: the same operations lane by lane.
+   The flat tree reads each axis' near and far planes straight from the node (lo_x, hi_x, ...
+   follow each other: the plane a ray meets first is the row after lo when its direction is
+   negative), so no select runs per node. */
 static int4 hits_boxes(__global const clvis_bvh4_node* n, __global const clvis_instance* xi, clvis_box_ray br,
                        float near_t, float far_t, float4* entry)
 {
+#ifdef CLVIS_INSTANCES
     float4 lox = vload4(0, n->lo_x), hix = vload4(0, n->hi_x);
     float4 loy = vload4(0, n->lo_y), hiy = vload4(0, n->hi_y);
     float4 loz = vload4(0, n->lo_z), hiz = vload4(0, n->hi_z);
-#ifdef CLVIS_INSTANCES
     if (xi) {
         float w[24];
         world_boxes(n, xi, w);
         lox = vload4(0, w), loy = vload4(1, w), loz = vload4(2, w);
         hix = vload4(3, w), hiy = vload4(4, w), hiz = vload4(5, w);
     }
-#endif
     float4 nx = ((br.neg_x ? hix : lox) - br.origin.x) * br.inv.x;
     float4 ny = ((br.neg_y ? hiy : loy) - br.origin.y) * br.inv.y;
     float4 nz = ((br.neg_z ? hiz : loz) - br.origin.z) * br.inv.z;
     float4 fx = ((br.neg_x ? lox : hix) - br.origin.x) * br.inv.x;
     float4 fy = ((br.neg_y ? loy : hiy) - br.origin.y) * br.inv.y;
     float4 fz = ((br.neg_z ? loz : hiz) - br.origin.z) * br.inv.z;
+#else
+    __global const float* rows = n->lo_x; /* lo_x, hi_x, lo_y, hi_y, lo_z, hi_z: four floats each */
+    float4 nx = (vload4(br.neg_x, rows) - br.origin.x) * br.inv.x;
+    float4 ny = (vload4(2 + br.neg_y, rows) - br.origin.y) * br.inv.y;
+    float4 nz = (vload4(4 + br.neg_z, rows) - br.origin.z) * br.inv.z;
+    float4 fx = (vload4(1 - br.neg_x, rows) - br.origin.x) * br.inv.x;
+    float4 fy = (vload4(3 - br.neg_y, rows) - br.origin.y) * br.inv.y;
+    float4 fz = (vload4(5 - br.neg_z, rows) - br.origin.z) * br.inv.z;
+#endif
     /* clvis_raise / clvis_lower: a NaN (origin in a slab's plane, 0 * inf) constrains nothing */
     float4 t0 = (float4)(near_t);
     t0 = select(t0, nx, nx > t0);
@@ -203,106 +215,172 @@ static void clvis_prefetch_child(__global const clvis_bvh4_node* nodes, __global
 #endif
 }
 
-/* The walk: children that the ray meets are pushed far to near (closest: by entry distance) as
-   (node << 2 | slot) with their entry distance, and popped while they may still hold a hit
-   before the nearest so far. With CLVIS_INSTANCES each entry also remembers its instance (or the
-   top level, or the plain meshes' flat tree), a top-level leaf enters its instances (the first
-   at once, the others pushed as CLVIS_ENTER_INSTANCE entries at the leaf's entry distance), and
-   boxes and triangles of an instance are tested in world space. */
-static void walk(__global const clvis_bvh4_node* nodes, __global const clvis_bvh_tri* tris,
-                 __global const clvis_instance* instances, clvis_ray_rec r, answer* a)
-{
-    clvis_vec3 o = {r.ox, r.oy, r.oz}, d = {r.dx, r.dy, r.dz};
-    clvis_ray_shear s = clvis_make_shear(o, d);
-    clvis_box_ray br = clvis_make_box_ray(o, d);
-    uint stack[CLVIS_RAY_STACK];
+/* One ray's walk, advanced a node at a time (walk_step) so that a work-item can interleave the
+   walks of CLVIS_QUERY_LANES rays: while one lane waits for the node it popped, the others' loads
+   are in flight. Children that the ray meets are pushed far to near (by entry distance) as
+   (node << 2 | slot) with their entry distance, and popped while they may still hold a hit before
+   the nearest so far (closest) or in [tmin, tmax]. With CLVIS_INSTANCES each entry also remembers
+   its instance (or the top level, or the plain meshes' flat tree), a top-level leaf enters its
+   instances (the first at once, the others pushed as CLVIS_ENTER_INSTANCE entries at the leaf's
+   entry distance), and boxes and triangles of an instance are tested in world space. */
+typedef struct walker {
+    clvis_ray_rec r;
+    clvis_ray_shear s;
+    clvis_box_ray br;
+    answer a;
+    uint ray;   /* its index in the batch */
+    uint node;  /* the node it visits next; CLVIS_BACKGROUND_ID once answered */
+    uint sp;    /* stack entries */
+#ifdef CLVIS_INSTANCES
+    uint inst;  /* the level it walks: an instance, CLVIS_INST_TOP or CLVIS_INST_FLAT */
+#endif
+} walker;
+
+/* The stacks of one lane. */
+typedef struct walk_stack {
+    uint ref[CLVIS_RAY_STACK];
     float enter[CLVIS_RAY_STACK];
-    uint sp = 0;
-    uint node = 0;
-    __global const clvis_instance* xi = 0; /* instance `inst`; none in the top level and the flat tree */
 #ifdef CLVIS_INSTANCES
-    uint stack_inst[CLVIS_RAY_STACK];
-    uint inst = CLVIS_INST_TOP;
+    uint inst[CLVIS_RAY_STACK];
 #endif
-    for (;;) {
-        __global const clvis_bvh4_node* n = nodes + node;
-        float4 e4;
-        int4 hit4 = hits_boxes(n, xi, br, r.tmin, query_far(r, a), &e4);
-        float e[4];
-        int h[4];
-        vstore4(e4, 0, e);
-        vstore4(hit4, 0, h);
-        uint first = sp;
-        for (int k = 0; k < 4; ++k) {
-            if (!h[k]) continue;
-            clvis_prefetch_child(nodes, tris, n, k);
-            /* insertion from the top: entries above `first` stay sorted, nearest on top */
-            uint i = sp++;
+} walk_stack;
+
+/* Visits w->node, then pops entries (testing leaves) until the next node to visit; w->node is
+   CLVIS_BACKGROUND_ID once the ray is answered. */
+static void walk_step(__global const clvis_bvh4_node* nodes, __global const clvis_bvh_tri* tris,
+                      __global const clvis_instance* instances, walker* w, walk_stack* st)
+{
+    __global const clvis_bvh4_node* n = nodes + w->node;
+    /* instance w->inst's record, none in the top level and the flat tree */
+#ifdef CLVIS_INSTANCES
+    __global const clvis_instance* xi = w->inst < CLVIS_INST_TOP ? instances + w->inst : 0;
+#else
+    __global const clvis_instance* xi = 0;
+#endif
+    float4 e4;
+    int4 hit4 = hits_boxes(n, xi, w->br, w->r.tmin, query_far(w->r, &w->a), &e4);
+    float e[4];
+    int h[4];
+    vstore4(e4, 0, e);
+    vstore4(hit4, 0, h);
+    uint first = w->sp, sp = w->sp;
+    /* (a loop over the set bits of a hit mask instead, with clz, crashes Oclgrind 21.10's
+       uninitialised-value checker, and was no faster on PoCL) */
+    for (uint k = 0; k < 4; ++k) {
+        if (!h[k]) continue;
+        clvis_prefetch_child(nodes, tris, n, (int)k);
+        uint i = sp++;
 #if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
-            for (; i > first && enter[i - 1] < e[k]; --i) {
-                stack[i] = stack[i - 1];
-                enter[i] = enter[i - 1];
-            }
-#endif
-            stack[i] = node << 2 | (uint)k;
-            enter[i] = e[k];
+        for (; i > first && st->enter[i - 1] < e[k]; --i) {
+            st->ref[i] = st->ref[i - 1];
+            st->enter[i] = st->enter[i - 1];
         }
-#ifdef CLVIS_INSTANCES
-        for (uint j = first; j < sp; ++j) stack_inst[j] = inst; /* all of this node */
 #endif
-        node = CLVIS_BACKGROUND_ID;
-        while (sp > 0) {
-            uint ref = stack[--sp];
-            if (enter[sp] > query_far(r, a) * CLVIS_IZE_SCALE) continue;
-#ifdef CLVIS_INSTANCES
-            inst = stack_inst[sp];
-            xi = inst < CLVIS_INST_TOP ? instances + inst : 0;
-            if (ref == CLVIS_ENTER_INSTANCE) {
-                node = clvis_enter_instance(instances, inst, &inst, &xi);
-                break;
-            }
-#endif
-            __global const clvis_bvh4_node* p = nodes + (ref >> 2);
-            uint k = ref & 3u, cnt = p->count[k];
-            if (cnt == 0) {
-                node = p->child[k];
-                break;
-            }
-#ifdef CLVIS_INSTANCES
-            if (inst == CLVIS_INST_TOP) {
-                uint pushed = sp;
-                float at = enter[sp]; /* the leaf's entry distance */
-                node = clvis_enter_instances(p, (int)k, instances, stack, stack_inst, &sp, &inst, &xi);
-                for (; pushed < sp; ++pushed) enter[pushed] = at;
-                break;
-            }
-#endif
-            if (leaf(tris, p->child[k], cnt, xi, s, r, a)) return;
-        }
-        if (node == CLVIS_BACKGROUND_ID) return;
+        st->ref[i] = w->node << 2 | k;
+        st->enter[i] = e[k];
     }
+#ifdef CLVIS_INSTANCES
+    for (uint j = first; j < sp; ++j) st->inst[j] = w->inst; /* all of this node */
+#endif
+    w->node = CLVIS_BACKGROUND_ID;
+    while (sp > 0) {
+        uint ref = st->ref[--sp];
+        if (st->enter[sp] > query_far(w->r, &w->a) * CLVIS_IZE_SCALE) continue;
+#ifdef CLVIS_INSTANCES
+        w->inst = st->inst[sp];
+        xi = w->inst < CLVIS_INST_TOP ? instances + w->inst : 0;
+        if (ref == CLVIS_ENTER_INSTANCE) {
+            w->node = clvis_enter_instance(instances, w->inst, &w->inst, &xi);
+            break;
+        }
+#endif
+        __global const clvis_bvh4_node* p = nodes + (ref >> 2);
+        uint k = ref & 3u, cnt = p->count[k];
+        if (cnt == 0) {
+            w->node = p->child[k];
+            break;
+        }
+#ifdef CLVIS_INSTANCES
+        if (w->inst == CLVIS_INST_TOP) {
+            uint pushed = sp;
+            float at = st->enter[sp]; /* the leaf's entry distance */
+            w->node = clvis_enter_instances(p, (int)k, instances, st->ref, st->inst, &sp, &w->inst, &xi);
+            for (; pushed < sp; ++pushed) st->enter[pushed] = at;
+            break;
+        }
+#endif
+        if (leaf(tris, p->child[k], cnt, xi, w->s, w->r, &w->a)) break; /* answered: node stays none */
+    }
+    w->sp = sp;
 }
 
-/* `instances` only with CLVIS_INSTANCES: the flat build's arguments (and code) are as before. */
+/* Starts ray i's walk in a lane (at once answered when invalid or the tree is empty). */
+static void walk_start(__global const float* rays, int layout, ulong stride, ulong offset, uint i, uint node_count,
+                       __global uint* invalid, walker* w)
+{
+    w->r = load_ray(rays, layout, stride, offset + i);
+    w->a = start_answer(w->r);
+    w->ray = i;
+    w->sp = 0;
+#ifdef CLVIS_INSTANCES
+    w->inst = CLVIS_INST_TOP;
+#endif
+    int valid = clvis_ray_valid(w->r);
+    if (!valid) atomic_inc(invalid);
+    w->node = valid && node_count > 0 ? 0u : CLVIS_BACKGROUND_ID;
+    clvis_vec3 o = {w->r.ox, w->r.oy, w->r.oz}, d = {w->r.dx, w->r.dy, w->r.dz};
+    w->s = clvis_make_shear(o, d);
+    w->br = clvis_make_box_ray(o, d);
+}
+
+/* CLVIS_QUERY_LANES: rays a work-item walks interleaved (1, the default, walks them one after the
+   other). */
+#ifndef CLVIS_QUERY_LANES
+#define CLVIS_QUERY_LANES 1
+#endif
+
+/* Work-item g answers rays [g * per_item, (g + 1) * per_item) of the batch, CLVIS_QUERY_LANES at a
+   time: a lane whose ray is answered stores it and takes the next. `instances` only with
+   CLVIS_INSTANCES: the flat build's arguments (and code) are as before. */
 __kernel void ray_query(__global const clvis_bvh4_node* nodes, uint node_count, __global const clvis_bvh_tri* tris,
 #ifdef CLVIS_INSTANCES
                         __global const clvis_instance* instances,
 #endif
                         __global const float* rays, int ray_layout, ulong ray_stride, ulong ray_offset, uint count,
-                        __global out_t* out, int out_layout, ulong out_stride, ulong out_offset,
+                        uint per_item, __global out_t* out, int out_layout, ulong out_stride, ulong out_offset,
                         __global uint* invalid)
 {
-    uint i = (uint)get_global_id(0);
-    if (i >= count) return;
-    clvis_ray_rec r = load_ray(rays, ray_layout, ray_stride, ray_offset + i);
-    answer a = start_answer(r);
-    if (!clvis_ray_valid(r)) atomic_inc(invalid);
-#ifdef CLVIS_INSTANCES
-    else if (node_count > 0) walk(nodes, tris, instances, r, &a);
-#else
-    else if (node_count > 0) walk(nodes, tris, 0, r, &a);
+#ifndef CLVIS_INSTANCES
+    __global const clvis_instance* instances = 0;
 #endif
-    store_answer(out, out_layout, out_stride, out_offset + i, a);
+    ulong begin = (ulong)get_global_id(0) * per_item;
+    if (begin >= count) return;
+    uint next = (uint)begin, end = (ulong)count - begin < per_item ? count : (uint)begin + per_item;
+    walker w[CLVIS_QUERY_LANES];
+    walk_stack st[CLVIS_QUERY_LANES];
+    uint busy = 0; /* lanes holding a ray */
+    for (int j = 0; j < CLVIS_QUERY_LANES; ++j) {
+        w[j].node = CLVIS_BACKGROUND_ID;
+        w[j].ray = end; /* none */
+        if (next < end) {
+            walk_start(rays, ray_layout, ray_stride, ray_offset, next++, node_count, invalid, &w[j]);
+            ++busy;
+        }
+    }
+    while (busy > 0) {
+        for (int j = 0; j < CLVIS_QUERY_LANES; ++j) {
+            if (w[j].ray == end) continue;
+            if (w[j].node != CLVIS_BACKGROUND_ID) walk_step(nodes, tris, instances, &w[j], &st[j]);
+            if (w[j].node != CLVIS_BACKGROUND_ID) continue;
+            store_answer(out, out_layout, out_stride, out_offset + w[j].ray, w[j].a);
+            if (next < end) {
+                walk_start(rays, ray_layout, ray_stride, ray_offset, next++, node_count, invalid, &w[j]);
+            } else {
+                w[j].ray = end;
+                --busy;
+            }
+        }
+    }
 }
 
 static clvis_vec3 load_vertex(__global const float* positions, uint v)

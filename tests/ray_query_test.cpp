@@ -385,11 +385,52 @@ TEST_CASE("split batches, layouts and device buffers answer as one batch", "[dev
     clReleaseMemObject(out);
 }
 
+TEST_CASE("rays walked interleaved in one work-item answer as rays walked alone", "[device][rays]")
+{
+    // Work-items walk `lanes` rays at once and take their next ray as one ends: odd counts leave
+    // a work-item fewer rays than lanes (one, or none past the first), and the mixed rays end at
+    // every depth (invalid at once, misses near the root, hits deep, any-hits early).
+    Scene s = scene_of(make_soup(3000, 11));
+    std::vector<RayRecord> rays = mixed_rays(s, 1001, 12);
+    Renderer renderer(Device::open(), s);
+    RayQuery alone(renderer, RayQueryOptions{std::size_t(1) << 20, false, 1});
+    for (std::size_t n : {std::size_t(1), std::size_t(2), std::size_t(7), rays.size()}) {
+        std::vector<RayRecord> some(rays.begin(), rays.begin() + std::ptrdiff_t(n));
+        Answers a = answer(alone, some);
+        for (int lanes : {2, 3, 8}) {
+            for (std::size_t batch : {std::size_t(1) << 20, std::size_t(37)}) {
+                INFO(n << " rays, " << lanes << " lanes, batches of " << batch);
+                RayQuery q(renderer, RayQueryOptions{batch, false, lanes});
+                Answers b;
+                b.hits.assign(n, HitRecord{-1.0f, 12345u, -1.0f, -1.0f}); // not an answer: must be overwritten
+                b.flags.assign(n, 7);
+                b.counts.assign(n, 99999u);
+                b.stats = q.closest({some.data(), n}, b.hits.data());
+                q.occluded({some.data(), n}, b.flags.data());
+                q.count({some.data(), n}, b.counts.data());
+                CHECK(b.stats.invalid == a.stats.invalid);
+                for (std::size_t i = 0; i < n; ++i) {
+                    INFO("ray " << i);
+                    REQUIRE(same_hit(a.hits[i], b.hits[i]));
+                    REQUIRE(a.flags[i] == b.flags[i]);
+                    REQUIRE(a.counts[i] == b.counts[i]);
+                }
+            }
+        }
+    }
+    std::size_t hits = 0;
+    Answers all = answer(alone, rays);
+    for (const HitRecord& h : all.hits) hits += h.id != background_id;
+    CHECK(hits > rays.size() / 20); // the soup is hit, so walks end at different depths
+}
+
 TEST_CASE("ray queries refuse null arrays and bad options", "[device][rays]")
 {
     Scene s = scene_of(make_uv_sphere(100));
     Renderer renderer(Device::open(), s);
     CHECK_THROWS_AS(RayQuery(renderer, RayQueryOptions{0, false}), Error);
+    CHECK_THROWS_AS(RayQuery(renderer, RayQueryOptions{64, false, 9}), Error);
+    CHECK_THROWS_AS(RayQuery(renderer, RayQueryOptions{64, false, -1}), Error);
     RayQuery q(renderer);
     HitRecord h;
     CHECK_THROWS_AS(q.closest({static_cast<const RayRecord*>(nullptr), 1}, &h), Error);

@@ -46,8 +46,12 @@ namespace {
 
 /// The traversal stack grows in steps of this many entries (each step is one program build).
 constexpr int stack_step = 16;
-/// Work-items per work-group at most (one ray each).
+/// Work-items per work-group at most.
 constexpr std::size_t group_items = 64;
+/// Lanes of the walk on PoCL's CPU device (RayQueryOptions::lanes 0), and rays per work-item per
+/// lane when lanes > 1 (a lane whose ray is answered takes the work-item's next one).
+constexpr int pocl_lanes = 4;
+constexpr int items_per_lane = 4;
 
 std::size_t result_bytes(RayQueryKind kind) { return kind == RayQueryKind::Closest ? 16 : kind == RayQueryKind::Any ? 1 : 4; }
 
@@ -76,6 +80,9 @@ RayQuery::Impl::Impl(Renderer& renderer, const RayQueryOptions& o) : r(RendererA
     if (options.batch_rays < 1 || options.batch_rays > (std::size_t(1) << 28))
         throw Error(Error::Kind::InvalidArgument,
                     "ray query: batch_rays must lie in [1, 2^28], got " + std::to_string(options.batch_rays));
+    if (options.lanes < 0 || options.lanes > 8)
+        throw Error(Error::Kind::InvalidArgument,
+                    "ray query: lanes must lie in [0, 8], got " + std::to_string(options.lanes));
     if (!options.brute) error_boundary("preparing the ray queries", [&] { return &r.ray_pipeline(true); });
 }
 
@@ -103,6 +110,9 @@ cl::Kernel& RayQuery::Impl::kernel(RayQueryKind kind)
         std::string defs = "-DCLVIS_QUERY=" + std::to_string(int(kind)) + " -DCLVIS_RAY_STACK=" + std::to_string(stack);
         if (!options.brute && prefetches(r.dev().device)) defs += " -DCLVIS_PREFETCH=1";
         if (two_level) defs += " -DCLVIS_INSTANCES=1";
+        b.lanes = options.brute ? 1 : options.lanes > 0 ? options.lanes : prefetches(r.dev().device) ? pocl_lanes : 1;
+        b.per_item = b.lanes > 1 ? std::size_t(items_per_lane * b.lanes) : 1;
+        if (!options.brute) defs += " -DCLVIS_QUERY_LANES=" + std::to_string(b.lanes);
         b.kernel = cl::Kernel(r.dev().program("ray_query", defs), options.brute ? "ray_query_brute" : "ray_query");
         std::size_t max_group = b.kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(r.dev().device);
         b.group = std::max<std::size_t>(1, std::min(group_items, max_group));
@@ -164,11 +174,13 @@ void RayQuery::Impl::batch(RayQueryKind kind, const Source& src, const Sink& dst
     cl::Kernel& k = kernel(kind);
     std::size_t group = built[int(kind)].group;
     int a = 0;
+    std::size_t per_item = 1;
     if (options.brute) {
         k.setArg(a++, r.scene_buffers().positions);
         k.setArg(a++, r.scene_buffers().indices);
         k.setArg(a++, cl_uint(r.scene_buffers().triangle_count));
     } else {
+        per_item = built[int(kind)].per_item;
         k.setArg(a++, r.ray->nodes());
         k.setArg(a++, cl_uint(r.ray->node_count()));
         k.setArg(a++, r.ray->triangles());
@@ -179,13 +191,15 @@ void RayQuery::Impl::batch(RayQueryKind kind, const Source& src, const Sink& dst
     k.setArg(a++, ray_stride);
     k.setArg(a++, ray_offset);
     k.setArg(a++, cl_uint(m));
+    if (!options.brute) k.setArg(a++, cl_uint(per_item));
     k.setArg(a++, out);
     k.setArg(a++, out_layout);
     k.setArg(a++, out_stride);
     k.setArg(a++, out_offset);
     k.setArg(a++, invalid);
     cl::Event done;
-    q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(m, group)), cl::NDRange(group), nullptr, &done);
+    std::size_t items = (m + per_item - 1) / per_item;
+    q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(items, group)), cl::NDRange(group), nullptr, &done);
 
     if (dst.soa) {
         void* fields[CLVIS_HIT_FIELDS] = {dst.soa->t, dst.soa->id, dst.soa->u, dst.soa->v};

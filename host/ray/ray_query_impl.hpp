@@ -18,6 +18,8 @@ struct RayQuery::Impl {
         std::size_t group = 1; ///< work-items per work-group
         int stack = -1;        ///< CLVIS_RAY_STACK it was built with
         bool two_level = false; ///< built with CLVIS_INSTANCES
+        int lanes = 1;          ///< CLVIS_QUERY_LANES: rays a work-item walks interleaved
+        std::size_t per_item = 1; ///< rays a work-item answers
     };
     Built built[3];
     cl::Kernel generate_ao, generate_shadow;
