@@ -48,9 +48,8 @@ namespace {
 constexpr int stack_step = 16;
 /// Work-items per work-group at most.
 constexpr std::size_t group_items = 64;
-/// Lanes of the walk on PoCL's CPU device (RayQueryOptions::lanes 0), and rays per work-item per
-/// lane when lanes > 1 (a lane whose ray is answered takes the work-item's next one).
-constexpr int pocl_lanes = 4;
+/// Rays per work-item per lane when RayQueryOptions::lanes > 1 (a lane whose ray is answered
+/// takes the work-item's next one).
 constexpr int items_per_lane = 4;
 
 std::size_t result_bytes(RayQueryKind kind) { return kind == RayQueryKind::Closest ? 16 : kind == RayQueryKind::Any ? 1 : 4; }
@@ -110,7 +109,7 @@ cl::Kernel& RayQuery::Impl::kernel(RayQueryKind kind)
         std::string defs = "-DCLVIS_QUERY=" + std::to_string(int(kind)) + " -DCLVIS_RAY_STACK=" + std::to_string(stack);
         if (!options.brute && prefetches(r.dev().device)) defs += " -DCLVIS_PREFETCH=1";
         if (two_level) defs += " -DCLVIS_INSTANCES=1";
-        b.lanes = options.brute ? 1 : options.lanes > 0 ? options.lanes : prefetches(r.dev().device) ? pocl_lanes : 1;
+        b.lanes = options.brute ? 1 : std::max(1, options.lanes);
         b.per_item = b.lanes > 1 ? std::size_t(items_per_lane * b.lanes) : 1;
         if (!options.brute) defs += " -DCLVIS_QUERY_LANES=" + std::to_string(b.lanes);
         b.kernel = cl::Kernel(r.dev().program("ray_query", defs), options.brute ? "ray_query_brute" : "ray_query");

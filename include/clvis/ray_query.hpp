@@ -57,8 +57,8 @@ struct RayQueryOptions {
     std::size_t batch_rays = std::size_t(1) << 20; ///< rays per kernel launch at most (bounds the
                                                    ///< staging buffers: 48 bytes per ray)
     bool brute = false; ///< test every triangle instead of walking the BVH (tests, tiny scenes)
-    int lanes = 0;      ///< rays one work-item walks interleaved, 1..8 (their node loads overlap);
-                        ///< 0: the device's choice (PoCL's CPU device 4, others 1)
+    int lanes = 0;      ///< rays one work-item walks interleaved, 1..8, so their node loads
+                        ///< overlap (pays where the tree misses the caches); 0 means 1
 };
 
 struct AoOptions {
