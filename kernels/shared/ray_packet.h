@@ -1,0 +1,226 @@
+/* The 16-ray packets of ray_trace.cl (OpenCL C only: vector types): the packet's rays, made with
+   the same operations as the scalar clvis_primary_ray, clvis_make_shear and clvis_make_box_ray, and
+   the box tests on all 16 rays at once (the scalar clvis_ray_hits_box's operations per lane, and
+   a conservative interval test of a node's four children against the whole packet). */
+#ifndef CLVIS_SHARED_RAY_PACKET_H
+#define CLVIS_SHARED_RAY_PACKET_H
+
+#include "shared/bvh.h"
+#include "shared/camera.h"
+#include "shared/instance.h"
+#include "shared/ray.h"
+
+typedef float16 lanes_f;
+typedef int16 lanes_i;
+typedef uint16 lanes_u;
+
+/* The packet's rays, lane l = pixel (l % 4, l / 4) of the packet. */
+typedef struct packet {
+    lanes_f ox, oy, oz;          /* origin, world axes */
+    lanes_f ix, iy, iz;          /* 1 / direction */
+    lanes_i nx, ny, nz;          /* 1 / direction < 0: the slab is entered through hi */
+    lanes_f px, py, pz;          /* origin permuted to the shear's axes (kx, ky, kz) */
+    lanes_f sx, sy, sz;          /* shear (clvis_ray_shear) */
+    lanes_i kx0, kx1, ky0, ky1, kz0, kz1; /* kx == 0, kx == 1, ...: per-lane permutation */
+    float cx, cy, cz;            /* direction of a central ray: orders children near to far */
+    int same_signs;              /* every lane enters boxes through the same planes, (neg_x, ...) */
+    int neg_x, neg_y, neg_z;
+    int perspective;             /* every lane starts at the eye */
+    float eye_x, eye_y, eye_z;
+    int uniform;                 /* every lane has the same permutation, (ukx, uky, ukz) */
+    int common_origin;           /* and the same origin (perspective), (uox, uoy, uoz) permuted */
+    float uox, uoy, uoz;
+    int ukx, uky, ukz;
+    int span;                    /* perspective, same signs, every 1 / direction finite and not 0: */
+    float ix_lo, ix_hi, iy_lo, iy_hi, iz_lo, iz_hi; /* the lanes' range of each, for packet_span_hits */
+} packet;
+
+static float pick(float x, float y, float z, int k) { return k == 0 ? x : (k == 1 ? y : z); }
+
+/* The OR of a mask's lanes (a bit set in any lane), by halves through private memory (which
+   compilers turn into shuffles): Oclgrind 21.10 tracked .lo/.hi swizzles of 16-wide vectors as
+   uninitialised and crashed on int2 ones. */
+static int or_lanes(lanes_i m)
+{
+    int r[CLVIS_PACKET];
+    vstore16(m, 0, r);
+    vstore8(vload8(0, r) | vload8(1, r), 0, r);
+    vstore4(vload4(0, r) | vload4(1, r), 0, r);
+    return r[0] | r[1] | r[2] | r[3];
+}
+
+/* clvis_raise / clvis_lower on lanes: a NaN v leaves acc. */
+static lanes_f raise(lanes_f acc, lanes_f v) { return select(acc, v, v > acc); }
+static lanes_f lower(lanes_f acc, lanes_f v) { return select(acc, v, v < acc); }
+
+/* The smallest and the largest lane (of lanes without NaN), by halves as or_lanes. */
+static float min_lanes(lanes_f v)
+{
+    float r[CLVIS_PACKET];
+    vstore16(v, 0, r);
+    vstore8(fmin(vload8(0, r), vload8(1, r)), 0, r);
+    vstore4(fmin(vload4(0, r), vload4(1, r)), 0, r);
+    return fmin(fmin(r[0], r[1]), fmin(r[2], r[3]));
+}
+
+static float max_lanes(lanes_f v) { return -min_lanes(-v); }
+
+/* Lanes where v is finite and not zero. */
+static lanes_i finite_nonzero(lanes_f v) { return ((as_uint16(v) & 0x7F800000u) != 0x7F800000u) & (v != 0.0f); }
+
+/* Lane l's pixel offset within the packet: (l % 4, l / 4). */
+#define CLVIS_LANE_X ((lanes_i)(0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3))
+#define CLVIS_LANE_Y ((lanes_i)(0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3))
+
+static lanes_f component(lanes_f x, lanes_f y, lanes_f z, lanes_i k)
+{
+    return select(select(z, y, k == 1), x, k == 0);
+}
+
+/* The packet's rays: clvis_primary_ray, clvis_make_shear and clvis_make_box_ray on 16 lanes, the
+   same operations in the same order, so each lane holds the bits the scalar code gives its pixel.
+   Lanes past the image's edge repeat the edge pixel's ray and are not written. */
+static void make_packet(clvis_camera_gpu cam, int x0, int y0, packet* out)
+{
+    lanes_f rx = convert_float16(min((lanes_i)(x0) + CLVIS_LANE_X, (lanes_i)(cam.width - 1))) + clvis_camera_sample(cam).x;
+    lanes_f ry = convert_float16(min((lanes_i)(y0) + CLVIS_LANE_Y, (lanes_i)(cam.height - 1))) + clvis_camera_sample(cam).y;
+    /* clvis_screen_from_raster */
+    lanes_f sx = (rx - cam.cx) / cam.fx;
+    lanes_f sy = (cam.cy - ry) / cam.fy;
+    /* clvis_primary_ray */
+    lanes_f ox, oy, oz, dx, dy, dz;
+    if (cam.ortho) {
+        ox = cam.eye_x + sx * cam.r_x + sy * cam.u_x;
+        oy = cam.eye_y + sx * cam.r_y + sy * cam.u_y;
+        oz = cam.eye_z + sx * cam.r_z + sy * cam.u_z;
+        dx = (lanes_f)(cam.f_x);
+        dy = (lanes_f)(cam.f_y);
+        dz = (lanes_f)(cam.f_z);
+    } else {
+        ox = (lanes_f)(cam.eye_x);
+        oy = (lanes_f)(cam.eye_y);
+        oz = (lanes_f)(cam.eye_z);
+        dx = sx * cam.r_x + sy * cam.u_x + cam.f_x;
+        dy = sx * cam.r_y + sy * cam.u_y + cam.f_y;
+        dz = sx * cam.r_z + sy * cam.u_z + cam.f_z;
+    }
+    /* clvis_make_shear */
+    lanes_f ax = fabs(dx), ay = fabs(dy), az = fabs(dz);
+    lanes_i kz = select(select((lanes_i)(2), (lanes_i)(1), ay >= az), (lanes_i)(0), (ax >= ay) & (ax >= az));
+    lanes_i kx = select(kz + 1, (lanes_i)(0), kz == 2);
+    lanes_i ky = select(kx + 1, (lanes_i)(0), kx == 2);
+    lanes_f d_kz = component(dx, dy, dz, kz);
+    lanes_i swap = d_kz < 0.0f;
+    lanes_i kx_s = select(kx, ky, swap);
+    ky = select(ky, kx, swap);
+    kx = kx_s;
+    packet p;
+    p.sx = component(dx, dy, dz, kx) / d_kz;
+    p.sy = component(dx, dy, dz, ky) / d_kz;
+    p.sz = 1.0f / d_kz;
+    p.px = component(ox, oy, oz, kx);
+    p.py = component(ox, oy, oz, ky);
+    p.pz = component(ox, oy, oz, kz);
+    p.kx0 = kx == 0; p.kx1 = kx == 1;
+    p.ky0 = ky == 0; p.ky1 = ky == 1;
+    p.kz0 = kz == 0; p.kz1 = kz == 1;
+    p.ukx = kx.s0; p.uky = ky.s0; p.ukz = kz.s0;
+    p.uniform = !any((kx != p.ukx) | (ky != p.uky));
+    p.common_origin = p.uniform && !cam.ortho;
+    p.uox = pick(cam.eye_x, cam.eye_y, cam.eye_z, p.ukx);
+    p.uoy = pick(cam.eye_x, cam.eye_y, cam.eye_z, p.uky);
+    p.uoz = pick(cam.eye_x, cam.eye_y, cam.eye_z, p.ukz);
+    /* clvis_make_box_ray */
+    p.ox = ox; p.oy = oy; p.oz = oz;
+    p.cx = dx.s5; p.cy = dy.s5; p.cz = dz.s5;
+    p.ix = 1.0f / dx; p.iy = 1.0f / dy; p.iz = 1.0f / dz;
+    p.nx = p.ix < 0.0f; p.ny = p.iy < 0.0f; p.nz = p.iz < 0.0f;
+    p.neg_x = p.nx.s0; p.neg_y = p.ny.s0; p.neg_z = p.nz.s0;
+    p.same_signs = !any((p.nx != p.neg_x) | (p.ny != p.neg_y) | (p.nz != p.neg_z));
+    p.perspective = !cam.ortho;
+    p.eye_x = cam.eye_x; p.eye_y = cam.eye_y; p.eye_z = cam.eye_z;
+    p.span = p.perspective && p.same_signs && all(finite_nonzero(p.ix) & finite_nonzero(p.iy) & finite_nonzero(p.iz));
+    p.ix_lo = min_lanes(p.ix); p.ix_hi = max_lanes(p.ix);
+    p.iy_lo = min_lanes(p.iy); p.iy_hi = max_lanes(p.iy);
+    p.iz_lo = min_lanes(p.iz); p.iz_hi = max_lanes(p.iz);
+    *out = p;
+}
+
+#ifndef CLVIS_RASTER_RULE /* the watertight test (ray_trace.cl has the raster rule's) */
+/* clvis_ray_hits_box on every lane for child k of node n; `cull` is each ray's far distance (far,
+   or its nearest hit) already scaled by CLVIS_IZE_SCALE. Where every lane enters through the same
+   planes the planes are picked once, and with a common origin (perspective) plane - origin is
+   one scalar subtraction: the same operations on the same values as the per-lane form. */
+static lanes_i packet_hits_box(const packet* p, __global const clvis_bvh4_node* n, int k, __global const clvis_instance* xi,
+                               float near_t, lanes_f cull)
+{
+    float lo[3], hi[3];
+    clvis_instance_child_box(n, k, xi, lo, hi);
+    lanes_f tnx, tny, tnz, tfx, tfy, tfz;
+    if (p->same_signs) {
+        float nx = p->neg_x ? hi[0] : lo[0], fx = p->neg_x ? lo[0] : hi[0];
+        float ny = p->neg_y ? hi[1] : lo[1], fy = p->neg_y ? lo[1] : hi[1];
+        float nz = p->neg_z ? hi[2] : lo[2], fz = p->neg_z ? lo[2] : hi[2];
+        if (p->perspective) {
+            tnx = (lanes_f)(nx - p->eye_x) * p->ix;
+            tny = (lanes_f)(ny - p->eye_y) * p->iy;
+            tnz = (lanes_f)(nz - p->eye_z) * p->iz;
+            tfx = (lanes_f)(fx - p->eye_x) * p->ix;
+            tfy = (lanes_f)(fy - p->eye_y) * p->iy;
+            tfz = (lanes_f)(fz - p->eye_z) * p->iz;
+        } else {
+            tnx = ((lanes_f)(nx) - p->ox) * p->ix;
+            tny = ((lanes_f)(ny) - p->oy) * p->iy;
+            tnz = ((lanes_f)(nz) - p->oz) * p->iz;
+            tfx = ((lanes_f)(fx) - p->ox) * p->ix;
+            tfy = ((lanes_f)(fy) - p->oy) * p->iy;
+            tfz = ((lanes_f)(fz) - p->oz) * p->iz;
+        }
+    } else {
+        lanes_f lox = (lanes_f)(lo[0]), loy = (lanes_f)(lo[1]), loz = (lanes_f)(lo[2]);
+        lanes_f hix = (lanes_f)(hi[0]), hiy = (lanes_f)(hi[1]), hiz = (lanes_f)(hi[2]);
+        tnx = (select(lox, hix, p->nx) - p->ox) * p->ix;
+        tny = (select(loy, hiy, p->ny) - p->oy) * p->iy;
+        tnz = (select(loz, hiz, p->nz) - p->oz) * p->iz;
+        tfx = (select(hix, lox, p->nx) - p->ox) * p->ix;
+        tfy = (select(hiy, loy, p->ny) - p->oy) * p->iy;
+        tfz = (select(hiz, loz, p->nz) - p->oz) * p->iz;
+    }
+    lanes_f t0 = raise(raise(raise((lanes_f)(near_t), tnx), tny), tnz);
+    lanes_f t1 = lower(lower(lower((lanes_f)(CLVIS_INFINITY), tfx), tfy), tfz) * CLVIS_IZE_SCALE;
+    return (t0 <= t1) & (t0 <= cull);
+}
+
+/* The extremes over the lanes of a * i, i in [lo, hi] (the lanes' 1 / direction on one axis):
+   a product's rounding is monotonic in each factor, so a * lo or a * hi is one lane's own bits. */
+static float4 span_low(float4 a, float lo, float hi) { return select(a * hi, a * lo, a >= 0.0f); }
+static float4 span_high(float4 a, float lo, float hi) { return select(a * lo, a * hi, a >= 0.0f); }
+static float4 raise4(float4 acc, float4 v) { return select(acc, v, v > acc); }
+static float4 lower4(float4 acc, float4 v) { return select(acc, v, v < acc); }
+
+/* The interval test of node n's four children against the whole packet (p->span: a common origin,
+   one entry plane per axis, no NaN): bit k is set unless no lane can pass packet_hits_box for
+   child k. Each lane's entry distance is at least enter[k], the largest of near and the lanes'
+   smallest plane distances, and its exit at most the smallest of their largest, scaled as there:
+   a child is dropped where enter exceeds that exit or every lane's cull (cull_max, their largest). */
+static int packet_span_hits(const packet* p, __global const clvis_bvh4_node* n, float near_t, float cull_max,
+                            float4* enter)
+{
+    float4 lx = vload4(0, n->lo_x), ly = vload4(0, n->lo_y), lz = vload4(0, n->lo_z);
+    float4 hx = vload4(0, n->hi_x), hy = vload4(0, n->hi_y), hz = vload4(0, n->hi_z);
+    float4 ax = (p->neg_x ? hx : lx) - p->eye_x, bx = (p->neg_x ? lx : hx) - p->eye_x;
+    float4 ay = (p->neg_y ? hy : ly) - p->eye_y, by = (p->neg_y ? ly : hy) - p->eye_y;
+    float4 az = (p->neg_z ? hz : lz) - p->eye_z, bz = (p->neg_z ? lz : hz) - p->eye_z;
+    float4 t0 = raise4(raise4(raise4((float4)(near_t), span_low(ax, p->ix_lo, p->ix_hi)), span_low(ay, p->iy_lo, p->iy_hi)),
+                       span_low(az, p->iz_lo, p->iz_hi));
+    float4 t1 = lower4(lower4(lower4((float4)(CLVIS_INFINITY), span_high(bx, p->ix_lo, p->ix_hi)),
+                              span_high(by, p->iy_lo, p->iy_hi)),
+                       span_high(bz, p->iz_lo, p->iz_hi)) * CLVIS_IZE_SCALE;
+    int4 hit = (t0 <= t1) & (t0 <= (float4)(cull_max));
+    *enter = t0;
+    return (hit.s0 & 1) | (hit.s1 & 2) | (hit.s2 & 4) | (hit.s3 & 8);
+}
+
+#endif
+
+#endif

@@ -1,0 +1,151 @@
+/* The watertight triangle test on the 16 rays of a packet (OpenCL C only: vector types): the
+   operations of the scalar clvis_intersect_triangle (shared/ray.h) on every lane, so each lane
+   gets the bits the scalar test gives its ray, and a leaf's triangles tested in turn. */
+#ifndef CLVIS_SHARED_RAY_PACKET_TRI_H
+#define CLVIS_SHARED_RAY_PACKET_TRI_H
+
+#include "shared/ray_packet.h"
+
+static lanes_f permuted(float x, float y, float z, lanes_i k0, lanes_i k1)
+{
+    return select(select((lanes_f)(z), (lanes_f)(y), k1), (lanes_f)(x), k0);
+}
+
+/* clvis_ray_edges_of on every lane: the shear, the edge functions (with the exact recompute,
+   clvis_exact_edges, on the lanes where one rounded to zero: one OR of the lanes decides), det
+   and tz. */
+typedef struct { lanes_f u, v, w, det, tz; } packet_edges;
+
+static packet_edges packet_edges_of(const packet* p, lanes_f akx, lanes_f aky, lanes_f akz, lanes_f bkx, lanes_f bky,
+                                    lanes_f bkz, lanes_f ckx, lanes_f cky, lanes_f ckz)
+{
+    lanes_f ax = akx - p->sx * akz;
+    lanes_f ay = aky - p->sy * akz;
+    lanes_f bx = bkx - p->sx * bkz;
+    lanes_f by = bky - p->sy * bkz;
+    lanes_f cx = ckx - p->sx * ckz;
+    lanes_f cy = cky - p->sy * ckz;
+    packet_edges r;
+    r.u = cx * by - cy * bx;
+    r.v = ax * cy - ay * cx;
+    r.w = bx * ay - by * ax;
+    lanes_i zero = (r.u == 0.0f) | (r.v == 0.0f) | (r.w == 0.0f);
+    if (or_lanes(zero)) { /* rare: lane by lane, the scalar code's exact fallback */
+        float l_ax[CLVIS_PACKET], l_ay[CLVIS_PACKET], l_bx[CLVIS_PACKET], l_by[CLVIS_PACKET], l_cx[CLVIS_PACKET];
+        float l_cy[CLVIS_PACKET], l_u[CLVIS_PACKET], l_v[CLVIS_PACKET], l_w[CLVIS_PACKET];
+        int l_zero[CLVIS_PACKET];
+        vstore16(ax, 0, l_ax); vstore16(ay, 0, l_ay); vstore16(bx, 0, l_bx);
+        vstore16(by, 0, l_by); vstore16(cx, 0, l_cx); vstore16(cy, 0, l_cy);
+        vstore16(r.u, 0, l_u); vstore16(r.v, 0, l_v); vstore16(r.w, 0, l_w);
+        vstore16(zero, 0, l_zero);
+        for (int l = 0; l < CLVIS_PACKET; ++l)
+            if (l_zero[l])
+                clvis_exact_edges(&l_u[l], &l_v[l], &l_w[l], l_ax[l], l_ay[l], l_bx[l], l_by[l], l_cx[l], l_cy[l]);
+        r.u = vload16(0, l_u);
+        r.v = vload16(0, l_v);
+        r.w = vload16(0, l_w);
+    }
+    r.det = r.u + r.v + r.w;
+    r.tz = r.u * (p->sz * akz) + r.v * (p->sz * bkz) + r.w * (p->sz * ckz);
+    return r;
+}
+
+/* Lanes where a value is not finite (clvis_finite's bits). */
+static lanes_i not_finite(lanes_f v) { return (as_uint16(v) & 0x7F800000u) == 0x7F800000u; }
+
+/* clvis_intersect_triangle on every lane (culling by `faces`, CLVIS_CULL_*), keeping each lane's
+   nearest key (t bits, then id). The vertices are permuted to each lane's shear axes and the lane's permuted origin subtracted: the
+   same single subtraction as the scalar test, whichever comes first. */
+static void packet_test_triangle(const packet* p, const float* vert, uint tri_id, float near_t, float far_t,
+                                 int faces, lanes_u* best_t, lanes_u* best_id)
+{
+    lanes_f akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz;
+    if (p->common_origin) {
+        /* vertex minus origin once for all lanes: the same subtraction, done in scalar */
+        akx = (lanes_f)(pick(vert[0], vert[1], vert[2], p->ukx) - p->uox);
+        aky = (lanes_f)(pick(vert[0], vert[1], vert[2], p->uky) - p->uoy);
+        akz = (lanes_f)(pick(vert[0], vert[1], vert[2], p->ukz) - p->uoz);
+        bkx = (lanes_f)(pick(vert[3], vert[4], vert[5], p->ukx) - p->uox);
+        bky = (lanes_f)(pick(vert[3], vert[4], vert[5], p->uky) - p->uoy);
+        bkz = (lanes_f)(pick(vert[3], vert[4], vert[5], p->ukz) - p->uoz);
+        ckx = (lanes_f)(pick(vert[6], vert[7], vert[8], p->ukx) - p->uox);
+        cky = (lanes_f)(pick(vert[6], vert[7], vert[8], p->uky) - p->uoy);
+        ckz = (lanes_f)(pick(vert[6], vert[7], vert[8], p->ukz) - p->uoz);
+    } else if (p->uniform) {
+        akx = (lanes_f)(pick(vert[0], vert[1], vert[2], p->ukx)) - p->px;
+        aky = (lanes_f)(pick(vert[0], vert[1], vert[2], p->uky)) - p->py;
+        akz = (lanes_f)(pick(vert[0], vert[1], vert[2], p->ukz)) - p->pz;
+        bkx = (lanes_f)(pick(vert[3], vert[4], vert[5], p->ukx)) - p->px;
+        bky = (lanes_f)(pick(vert[3], vert[4], vert[5], p->uky)) - p->py;
+        bkz = (lanes_f)(pick(vert[3], vert[4], vert[5], p->ukz)) - p->pz;
+        ckx = (lanes_f)(pick(vert[6], vert[7], vert[8], p->ukx)) - p->px;
+        cky = (lanes_f)(pick(vert[6], vert[7], vert[8], p->uky)) - p->py;
+        ckz = (lanes_f)(pick(vert[6], vert[7], vert[8], p->ukz)) - p->pz;
+    } else {
+        akx = permuted(vert[0], vert[1], vert[2], p->kx0, p->kx1) - p->px;
+        aky = permuted(vert[0], vert[1], vert[2], p->ky0, p->ky1) - p->py;
+        akz = permuted(vert[0], vert[1], vert[2], p->kz0, p->kz1) - p->pz;
+        bkx = permuted(vert[3], vert[4], vert[5], p->kx0, p->kx1) - p->px;
+        bky = permuted(vert[3], vert[4], vert[5], p->ky0, p->ky1) - p->py;
+        bkz = permuted(vert[3], vert[4], vert[5], p->kz0, p->kz1) - p->pz;
+        ckx = permuted(vert[6], vert[7], vert[8], p->kx0, p->kx1) - p->px;
+        cky = permuted(vert[6], vert[7], vert[8], p->ky0, p->ky1) - p->py;
+        ckz = permuted(vert[6], vert[7], vert[8], p->kz0, p->kz1) - p->pz;
+    }
+    packet_edges r = packet_edges_of(p, akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz);
+    lanes_f unscale = (lanes_f)(1.0f);
+    lanes_i huge = not_finite(r.det) | not_finite(r.tz);
+    if (or_lanes(huge)) {
+        /* clvis_intersect_triangle's scaled retest: every coordinate times clvis_ray_scale of the
+           largest magnitude among the vertices and the lane's origin. */
+        float m = 0.0f;
+        for (int i = 0; i < 9; ++i) m = fabs(vert[i]) > m ? fabs(vert[i]) : m;
+        lanes_f mo = select(fabs(p->px), fabs(p->py), fabs(p->py) > fabs(p->px));
+        mo = select(mo, fabs(p->pz), fabs(p->pz) > mo);
+        mo = select(mo, (lanes_f)(m), (lanes_f)(m) > mo);
+        lanes_i e = convert_int16((as_uint16(mo) >> 23) & 0xFFu) - 127;
+        lanes_f k = select((lanes_f)(1.0f), as_float16(convert_uint16(157 - e) << 23), e > 30);
+        packet_edges q = packet_edges_of(
+            p, permuted(vert[0], vert[1], vert[2], p->kx0, p->kx1) * k - p->px * k,
+            permuted(vert[0], vert[1], vert[2], p->ky0, p->ky1) * k - p->py * k,
+            permuted(vert[0], vert[1], vert[2], p->kz0, p->kz1) * k - p->pz * k,
+            permuted(vert[3], vert[4], vert[5], p->kx0, p->kx1) * k - p->px * k,
+            permuted(vert[3], vert[4], vert[5], p->ky0, p->ky1) * k - p->py * k,
+            permuted(vert[3], vert[4], vert[5], p->kz0, p->kz1) * k - p->pz * k,
+            permuted(vert[6], vert[7], vert[8], p->kx0, p->kx1) * k - p->px * k,
+            permuted(vert[6], vert[7], vert[8], p->ky0, p->ky1) * k - p->py * k,
+            permuted(vert[6], vert[7], vert[8], p->kz0, p->kz1) * k - p->pz * k);
+        r.u = select(r.u, q.u, huge);
+        r.v = select(r.v, q.v, huge);
+        r.w = select(r.w, q.w, huge);
+        r.det = select(r.det, q.det, huge);
+        r.tz = select(r.tz, q.tz, huge);
+        unscale = select(unscale, 1.0f / k, huge);
+    }
+    /* Not outside: the edge functions do not take both signs. (Masks come only from comparisons,
+       never from ~, so every lane is 0 or -1 on every implementation.) */
+    lanes_i inside = ((r.u >= 0.0f) & (r.v >= 0.0f) & (r.w >= 0.0f)) | ((r.u <= 0.0f) & (r.v <= 0.0f) & (r.w <= 0.0f));
+    lanes_f t = r.tz / r.det * unscale;
+    lanes_i hit = inside & (r.det != 0.0f) & (t >= near_t) & (t <= far_t);
+    if (faces == CLVIS_CULL_BACK) hit &= r.det > 0.0f; /* clvis_cull_keeps on every lane */
+    else if (faces == CLVIS_CULL_FRONT) hit &= r.det < 0.0f;
+    lanes_u bits = as_uint16(t), id = (lanes_u)(tri_id);
+    lanes_i nearer = hit & ((bits < *best_t) | ((bits == *best_t) & (id < *best_id)));
+    *best_t = select(*best_t, bits, nearer);
+    *best_id = select(*best_id, id, nearer);
+}
+
+/* Tests the triangles of a leaf on every lane. */
+static void packet_test_leaf(const packet* p, __global const clvis_bvh_tri* tris, uint first, uint count,
+                             __global const clvis_instance* xi, clvis_camera_gpu cam, int faces, lanes_u* best_t,
+                             lanes_u* best_id, lanes_f* cull)
+{
+    for (uint k = first; k < first + count; ++k) {
+        float v[9];
+        uint id = clvis_instance_triangle(tris + k, xi, v);
+        packet_test_triangle(p, v, id, cam.near_d, cam.far_d, faces, best_t, best_id);
+    }
+    *cull = fmin((lanes_f)(cam.far_d), as_float16(*best_t)) * CLVIS_IZE_SCALE;
+}
+
+#endif
