@@ -4,7 +4,8 @@
    tracing", 2001): one walk of the 4-wide tree per packet, nearest child first, with a short
    stack; every box and triangle test runs on all 16 rays at once, the same operations as the
    scalar tests of shared/ray.h, so each ray gets the bits that ray_brute.cl computes for it. A
-   child is skipped when no ray of the packet can meet it before its nearest hit so far.
+   child is skipped when no ray of the packet can meet it before its nearest hit so far. A
+   perspective packet walks a flat tree by an interval test of the whole packet first (walk_span).
    Work-groups are screen tiles of packets. Built with CLVIS_RASTER_RULE (RenderOptions::coverage),
    each candidate triangle is judged by the raster path's predicate instead (packet_rule_leaf). */
 #include "shared/ray_packet.h"
