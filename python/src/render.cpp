@@ -11,7 +11,9 @@
 #include <nanobind/stl/vector.h>
 
 #include <chrono>
+#include <initializer_list>
 #include <limits>
+#include <utility>
 
 namespace clvis::python {
 
@@ -305,6 +307,18 @@ void bind_visibility(nb::module_& m)
         });
 }
 
+/// A tuned mapping as Python sees it: {"mapping", "source", then each candidate's measured ms, None
+/// where not measured (negative)}.
+nb::dict choice_dict(const char* mapping, const std::string& source,
+                     std::initializer_list<std::pair<const char*, double>> times)
+{
+    nb::dict d;
+    d["mapping"] = mapping;
+    d["source"] = source;
+    for (const auto& [name, ms] : times) d[name] = ms < 0 ? nb::none() : nb::cast(ms);
+    return d;
+}
+
 const char* renderer_doc =
     "Keeps a scene (a copy) on a device between frames and answers the visibility question by\n"
     "rasterization ('raster') or by ray casting through a BVH ('ray'); 'brute' tests every triangle.\n"
@@ -379,13 +393,7 @@ void bind_render(nb::module_& m)
             "raster_mapping",
             [](PyRenderer& r) {
                 const RasterMappingChoice c = unlocked(r.lock, [&] { return r.renderer.raster_mapping(); });
-                const auto ms = [](double v) { return v < 0 ? nb::none() : nb::cast(v); };
-                nb::dict d;
-                d["mapping"] = to_string(c.mapping);
-                d["source"] = c.source;
-                d["square_ms"] = ms(c.square_ms);
-                d["pixel_ms"] = ms(c.pixel_ms);
-                return d;
+                return choice_dict(to_string(c.mapping), c.source, {{"square_ms", c.square_ms}, {"pixel_ms", c.pixel_ms}});
             },
             "The raster fine stage's mapping this Renderer runs, as a dict: mapping ('square' or 'pixel'),\n"
             "source ('option', 'forced', 'cache' or 'measured': raster_mapping='auto' measures both once\n"
@@ -395,13 +403,7 @@ void bind_render(nb::module_& m)
             "ray_mapping",
             [](PyRenderer& r) {
                 const RayMappingChoice c = unlocked(r.lock, [&] { return r.renderer.ray_mapping(); });
-                const auto ms = [](double v) { return v < 0 ? nb::none() : nb::cast(v); };
-                nb::dict d;
-                d["mapping"] = to_string(c.mapping);
-                d["source"] = c.source;
-                d["packet_ms"] = ms(c.packet_ms);
-                d["single_ms"] = ms(c.single_ms);
-                return d;
+                return choice_dict(to_string(c.mapping), c.source, {{"packet_ms", c.packet_ms}, {"single_ms", c.single_ms}});
             },
             "The ray path's primary-ray mapping this Renderer runs, as a dict: mapping ('packet' or\n"
             "'single'), source ('option', 'forced', 'cache' or 'measured', as raster_mapping) and the measured\n"

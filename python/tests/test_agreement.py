@@ -37,47 +37,28 @@ def test_both_raster_depth_tests_give_the_same_buffer(device, bunny):
     assert np.array_equal(want.depth.view(np.uint32), got.depth.view(np.uint32))
 
 
-def test_every_raster_mapping_gives_the_same_buffer(device, bunny):
+@pytest.mark.parametrize("option, path, first, second", [("raster_mapping", "raster", "square", "pixel"),
+                                                        ("ray_mapping", "ray", "packet", "single")])
+def test_every_mapping_gives_the_same_buffer(device, bunny, option, path, first, second):
     camera = clvis.Camera.framing(bunny.bounds())
     renders = {}
-    for mapping in ("auto", "square", "pixel"):
-        renderer = clvis.Renderer(device, bunny, raster_mapping=mapping)
-        renders[mapping] = renderer.render(camera, W, H)
-        chosen = renderer.raster_mapping
+    for mapping in ("auto", first, second):
+        renderer = clvis.Renderer(device, bunny, **{option: mapping})
+        renders[mapping] = renderer.render(camera, W, H, path=path)
+        chosen = getattr(renderer, option)
         if mapping == "auto":  # measured by this session (its own cache folder, conftest.py) or read back
             assert chosen["source"] in ("measured", "cache")
-            assert chosen["square_ms"] > 0 and chosen["pixel_ms"] > 0
-            fastest = "pixel" if chosen["pixel_ms"] < chosen["square_ms"] else "square"
+            assert chosen[first + "_ms"] > 0 and chosen[second + "_ms"] > 0
+            fastest = second if chosen[second + "_ms"] < chosen[first + "_ms"] else first
             assert chosen["mapping"] == fastest
         else:
-            assert chosen == {"mapping": mapping, "source": "option", "square_ms": None, "pixel_ms": None}
-    assert renders["auto"].ids.tolist() == renders["square"].ids.tolist() == renders["pixel"].ids.tolist()
-    for mapping in ("square", "pixel"):
-        assert np.array_equal(renders["auto"].depth.view(np.uint32), renders[mapping].depth.view(np.uint32))
-    with pytest.raises(ValueError, match="raster_mapping"):
-        clvis.Renderer(device, bunny, raster_mapping="tiles")
-
-
-def test_every_ray_mapping_gives_the_same_buffer(device, bunny):
-    camera = clvis.Camera.framing(bunny.bounds())
-    renders = {}
-    for mapping in ("auto", "packet", "single"):
-        renderer = clvis.Renderer(device, bunny, ray_mapping=mapping)
-        renders[mapping] = renderer.render(camera, W, H, path="ray")
-        chosen = renderer.ray_mapping
-        if mapping == "auto":  # measured by this session (its own cache folder, conftest.py) or read back
-            assert chosen["source"] in ("measured", "cache")
-            assert chosen["packet_ms"] > 0 and chosen["single_ms"] > 0
-            fastest = "single" if chosen["single_ms"] < chosen["packet_ms"] else "packet"
-            assert chosen["mapping"] == fastest
-        else:
-            assert chosen == {"mapping": mapping, "source": "option", "packet_ms": None, "single_ms": None}
-    assert (renders["packet"].ids != clvis.background_id).sum() > 0.05 * W * H
-    for mapping in ("auto", "single"):
-        assert np.array_equal(renders[mapping].ids, renders["packet"].ids)
-        assert np.array_equal(renders[mapping].depth.view(np.uint32), renders["packet"].depth.view(np.uint32))
-    with pytest.raises(ValueError, match="ray_mapping"):
-        clvis.Renderer(device, bunny, ray_mapping="warp")
+            assert chosen == {"mapping": mapping, "source": "option", first + "_ms": None, second + "_ms": None}
+    assert (renders[first].ids != clvis.background_id).sum() > 0.05 * W * H
+    for mapping in ("auto", second):
+        assert np.array_equal(renders[mapping].ids, renders[first].ids)
+        assert np.array_equal(renders[mapping].depth.view(np.uint32), renders[first].depth.view(np.uint32))
+    with pytest.raises(ValueError, match=option):
+        clvis.Renderer(device, bunny, **{option: "tiles"})
 
 
 @pytest.mark.parametrize("mesh", ["spot.obj", "teapot.obj", "suzanne.obj"])
