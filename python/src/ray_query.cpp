@@ -10,6 +10,7 @@
 #include <nanobind/stl/array.h>
 #include <nanobind/stl/string.h>
 
+#include <algorithm>
 #include <cstring>
 
 namespace clvis::python {
@@ -178,7 +179,9 @@ const char* query_doc =
     "and the BVH shared with the renderer's ray path (built there once, refitted by\n"
     "Renderer.update), never rebuilt per call. Results go into new arrays or into the caller's\n"
     "(out=), which are returned. `batch_rays` bounds the rays per kernel launch (device memory);\n"
-    "`brute` tests every triangle instead of walking the BVH. The query keeps its Renderer alive;\n"
+    "`brute` tests every triangle instead of walking the BVH; `lanes` (1..8) walks that many rays per\n"
+    "work-item interleaved, so that their memory misses overlap (pays for incoherent rays through a\n"
+    "large tree on a CPU device; the same answers at any value). The query keeps its Renderer alive;\n"
     "calls lock the renderer and release the GIL.\n\n"
     "Example:\n"
     "    query = clvis.RayQuery(renderer)\n"
@@ -217,17 +220,20 @@ void bind_ray_query(nb::module_& m)
     nb::class_<PyRayQuery>(m, "RayQuery", query_doc)
         .def(
             "__init__",
-            [](PyRayQuery* self, nb::handle renderer, std::size_t batch_rays, bool brute) {
+            [](PyRayQuery* self, nb::handle renderer, std::size_t batch_rays, bool brute, int lanes) {
                 PyRenderer& r = nb::cast<PyRenderer&>(renderer);
                 if (batch_rays == 0) throw Error(Error::Kind::InvalidArgument, "RayQuery: batch_rays must be positive");
                 RayQueryOptions options;
                 options.batch_rays = batch_rays;
                 options.brute = brute;
+                options.lanes = lanes; // checked by RayQuery: 0 (1) to 8
                 auto query = unlocked(r.lock, [&] { return std::make_unique<RayQuery>(r.renderer, options); });
                 new (self) PyRayQuery{nb::borrow(renderer), &r, std::move(query), {}};
             },
-            nb::sig("def __init__(self, renderer: Renderer, *, batch_rays: int = 1048576, brute: bool = False) -> None"),
-            nb::arg("renderer"), nb::kw_only(), nb::arg("batch_rays") = std::size_t(1) << 20, nb::arg("brute") = false)
+            nb::sig("def __init__(self, renderer: Renderer, *, batch_rays: int = 1048576, brute: bool = False, "
+                    "lanes: int = 1) -> None"),
+            nb::arg("renderer"), nb::kw_only(), nb::arg("batch_rays") = std::size_t(1) << 20, nb::arg("brute") = false,
+            nb::arg("lanes") = 1)
         .def("closest", &closest, nb::sig(closest_sig.c_str()), nb::arg("rays"), nb::arg("layout") = "aos", nb::kw_only(),
              nb::arg("out") = nb::none(), closest_doc.c_str())
         .def(
@@ -267,7 +273,8 @@ void bind_ray_query(nb::module_& m)
         .def_prop_ro("stats", [](const PyRayQuery& q) { return q.stats; }, "RayQueryStats of the last call.")
         .def_prop_ro("renderer", [](const PyRayQuery& q) { return q.owner; }, "The Renderer it queries.")
         .def_prop_ro("batch_rays", [](const PyRayQuery& q) { return q.query->options().batch_rays; })
-        .def_prop_ro("brute", [](const PyRayQuery& q) { return q.query->options().brute; });
+        .def_prop_ro("brute", [](const PyRayQuery& q) { return q.query->options().brute; })
+        .def_prop_ro("lanes", [](const PyRayQuery& q) { return std::max(1, q.query->options().lanes); });
 }
 
 } // namespace clvis::python

@@ -75,6 +75,26 @@ def test_occluded_and_counts_agree_with_closest_hits_in_place(query, records):
     assert np.mean(counts[hit] % 2 == 0) > 0.9
 
 
+def test_rays_walked_interleaved_give_the_same_answers(query, bunny):
+    rng = np.random.default_rng(11)
+    n = 1001  # not a multiple of any run of lanes: the last work-items' lanes run dry at different steps
+    box = bunny.bounds()
+    lo, hi = np.asarray(box.lo, np.float64), np.asarray(box.hi, np.float64)
+    origins = rng.uniform(lo, hi, (n, 3)).astype(np.float32)  # inside the box: rays of every length
+    directions = rng.normal(size=(n, 3)).astype(np.float32)
+    rays = np.zeros((n, 8), np.float32)
+    rays[:, 0:3], rays[:, 4:7], rays[:, 7] = origins, directions, np.where(np.arange(n) % 3, np.inf, 0.01)
+    want = query.closest(rays), query.occluded(rays), query.count(rays)
+    assert (want[0]["id"] != clvis.background_id).sum() > n // 4
+    for lanes in (2, 3, 8):
+        interleaved = clvis.RayQuery(query.renderer, lanes=lanes)
+        assert interleaved.lanes == lanes
+        got = interleaved.closest(rays), interleaved.occluded(rays), interleaved.count(rays)
+        np.testing.assert_array_equal(got[0].view(np.uint32), want[0].view(np.uint32))
+        np.testing.assert_array_equal(got[1], want[1])
+        np.testing.assert_array_equal(got[2], want[2])
+
+
 def test_a_query_reuses_the_bvh_and_sees_updates(device):
     scene = clvis.Scene()
     triangle = np.array([[-1, -1, 0], [1, -1, 0], [0, 1, 0]], np.float32)
@@ -135,6 +155,7 @@ def test_shadow_rays_light_what_the_light_sees(query, render, camera):
         (lambda q, r: q.ambient_occlusion(clvis.Visibility(np.zeros((2, 2), np.uint32))), "RayQuery.ambient_occlusion: the Visibility must come from"),
         (lambda q, r: q.shadows(r, (0, 0, 0), out=np.empty((H, W + 1), np.float32)), "RayQuery.shadows: out"),
         (lambda q, r: clvis.RayQuery(q.renderer, batch_rays=0), "RayQuery: batch_rays must be positive"),
+        (lambda q, r: clvis.RayQuery(q.renderer, lanes=9), r"lanes must lie in \[0, 8\], got 9"),
     ],
 )
 def test_ray_query_errors_name_the_argument(query, render, call, message):
