@@ -1,10 +1,11 @@
 // Binned SAH BVH build (Wald, "On fast construction of SAH-based bounding volume hierarchies",
 // 2007). Near the root the binning of a node is spread over the threads and its two children are
 // built as separate tasks on the process's thread pool (runtime/thread_pool.hpp), each into its
-// own depth-first array, then spliced in order; splits depend only on the triangles (bins merge
-// exactly), so the result does not depend on the threads. Where the SAH cannot split (every
-// centroid in one point) or the tree grows too deep, an object median split takes over, so
-// degenerate scenes terminate quickly. One node's split is bvh_build_split.cpp.
+// own depth-first array, then spliced in order; a build given the whole pool cuts its top into
+// about 16 such tasks, taken by whichever thread is free. Splits depend only on the triangles
+// (bins and bounds merge exactly), so the result does not depend on the threads. Where the SAH
+// cannot split (every centroid in one point) or the tree grows too deep, an object median split
+// takes over, so degenerate scenes terminate quickly. One node's split is bvh_build_split.cpp.
 #include "ray/bvh_build.hpp"
 
 #include "ray/bvh_box.hpp"
@@ -25,7 +26,10 @@ namespace {
 
 class Builder {
 public:
-    Builder(std::vector<Prim>& prims, const BvhBuildOptions& o) : prims_(prims), opt_(o)
+    /// `task_grain`: 0, or the size down to which ranges become tasks whatever `threads` says
+    /// (build_parallel).
+    Builder(std::vector<Prim>& prims, const BvhBuildOptions& o, std::uint32_t task_grain)
+        : prims_(prims), opt_(o), task_grain_(task_grain)
     {
     }
 
@@ -48,10 +52,13 @@ public:
 
     /// The same subtree as build_serial, with the two children of each node above `min_parallel`
     /// triangles built on two threads (`threads` shared between them) into separate arrays and
-    /// spliced in depth-first order: the same bits as build_serial.
+    /// spliced in depth-first order: the same bits as build_serial. With a task grain (a build
+    /// that may use the whole pool), every range above the grain hands its right child to the
+    /// pool, so whichever thread is free takes it: an uneven split (the bunny's top one is 62:38)
+    /// does not leave a thread idle.
     int build_parallel(const Range& r, int depth, unsigned threads, std::vector<clvis_bvh_node>& out) const
     {
-        if (threads <= 1 || r.count() < min_parallel) return build_serial(r, depth, out);
+        if (threads <= 1 || r.count() < std::max(min_parallel, task_grain_)) return build_serial(r, depth, out);
         std::size_t self = out.size();
         out.push_back(make_node(r.box));
         Range left, right;
@@ -61,13 +68,14 @@ public:
             return depth;
         }
         unsigned threads_right = std::max(1u, unsigned(std::uint64_t(threads) * right.count() / r.count()));
-        threads_right = std::min(threads_right, threads - 1);
+        threads_right = task_grain_ ? threads : std::min(threads_right, threads - 1);
+        unsigned threads_left = task_grain_ ? threads : threads - threads_right;
         std::vector<clvis_bvh_node> right_nodes;
         right_nodes.reserve(std::size_t(right.count()) * 2);
         int depth_right = 0;
         TaskGroup group;
         group.run([&] { depth_right = build_parallel(right, depth + 1, threads_right, right_nodes); });
-        int depth_left = build_parallel(left, depth + 1, threads - threads_right, out);
+        int depth_left = build_parallel(left, depth + 1, threads_left, out);
         group.wait();
         std::uint32_t offset = std::uint32_t(out.size());
         out[self].first = offset;
@@ -78,8 +86,9 @@ public:
         return std::max(depth_left, depth_right);
     }
 
-    /// Ranges smaller than this are built on one thread.
-    static constexpr std::uint32_t min_parallel = 8192;
+    /// Ranges smaller than this are built on one thread: below, handing a half to a pool thread
+    /// costs about what it saves.
+    static constexpr std::uint32_t min_parallel = 1024;
 
     /// Splits `r` into two non-empty halves (returns false for a leaf); `workers` threads bin.
     bool split(const Range& r, int depth, Range& left, Range& right, unsigned workers) const
@@ -154,7 +163,7 @@ private:
     {
         int bins = map.bins;
         std::uint32_t n = r.count();
-        unsigned parts = std::min<unsigned>(workers, std::max<std::uint32_t>(1, n / 65536));
+        unsigned parts = std::min<unsigned>(workers, std::max<std::uint32_t>(1, n / 16384));
         if (parts <= 1) {
             bin_prims(prims_.data(), r.begin, r.end, map, out);
             return;
@@ -217,6 +226,7 @@ private:
 
     std::vector<Prim>& prims_;
     BvhBuildOptions opt_;
+    std::uint32_t task_grain_;
 };
 
 clvis_bvh_tri make_tri(const float* positions, const std::uint32_t* indices, std::uint32_t id)
@@ -255,33 +265,53 @@ Bvh build_bvh(const float* positions, const std::uint32_t* indices, std::size_t 
     unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
 
     std::vector<Prim> prims(triangle_count);
-    parallel_for(triangle_count, threads, [&](std::size_t i) {
-        Box box = Box::none();
-        for (int v = 0; v < 3; ++v) box.grow(positions + std::size_t(indices[i * 3 + v]) * 3);
-        std::int32_t id = std::int32_t(std::uint32_t(i));
-        v4i lo_bits = reinterpret_cast<v4i>(v4f{box.lo[0], box.lo[1], box.lo[2], 0.0f});
-        lo_bits[3] = id;
-        prims[i] = Prim{reinterpret_cast<v4f>(lo_bits), v4f{box.hi[0], box.hi[1], box.hi[2], 0.0f}};
+    // The root's bounds come with the boxes, per slice, merged exactly (min and max).
+    unsigned parts = unsigned(std::min<std::size_t>(threads, std::max<std::size_t>(1, triangle_count / 16384)));
+    std::vector<VBox> boxes(parts, VBox::none()), cboxes(parts, VBox::none());
+    parallel_slices(triangle_count, parts, [&](unsigned part, std::size_t b, std::size_t e) {
+        VBox box = VBox::none(), cbox = VBox::none();
+        for (std::size_t i = b; i < e; ++i) {
+            Box t = Box::none();
+            for (int v = 0; v < 3; ++v) t.grow(positions + std::size_t(indices[i * 3 + v]) * 3);
+            std::int32_t id = std::int32_t(std::uint32_t(i));
+            v4i lo_bits = reinterpret_cast<v4i>(v4f{t.lo[0], t.lo[1], t.lo[2], 0.0f});
+            lo_bits[3] = id;
+            prims[i] = Prim(reinterpret_cast<v4f>(lo_bits), v4f{t.hi[0], t.hi[1], t.hi[2], 0.0f});
+            box.grow(prims[i].box());
+            cbox.grow(centroid(prims[i].box()));
+        }
+        boxes[part] = box;
+        cboxes[part] = cbox;
     });
+    for (unsigned part = 1; part < parts; ++part) {
+        boxes[0].grow(boxes[part]);
+        cboxes[0].grow(cboxes[part]);
+    }
     Range root;
     root.begin = 0;
     root.end = std::uint32_t(triangle_count);
-    VBox box = VBox::none(), cbox = VBox::none();
-    for (const Prim& p : prims) {
-        box.grow(p.box());
-        cbox.grow(centroid(p.box()));
-    }
-    root.box = box.box();
-    root.cbox = cbox.box();
+    root.box = boxes[0].box();
+    root.cbox = cboxes[0].box();
 
-    Builder builder(prims, options);
+    // A build given every thread of the pool (the caller's included) lets the pool balance about
+    // 16 tasks; one given fewer divides its threads by the split ratio.
+    std::uint32_t grain = threads >= pool_workers() + 1 ? std::uint32_t(triangle_count / 16) : 0;
+    Builder builder(prims, options, grain);
     out.nodes.reserve(triangle_count * 2 / std::size_t(std::max(1, options.max_leaf_size / 2)) + 1);
     out.depth = builder.build_parallel(root, 1, threads, out.nodes);
 
+    // The tree's totals (one pass over the nodes) on the pool, beside the leaf triangles' copy,
+    // past the size where the handover costs more.
+    auto totals_of = [&out] {
+        for (const clvis_bvh_node& n : out.nodes) out.leaves += n.count > 0;
+        out.sah_cost = bvh_sah_cost(out.nodes);
+    };
+    TaskGroup totals;
+    if (triangle_count >= Builder::min_parallel) totals.run(totals_of);
+    else totals_of();
     out.tris.resize(triangle_count);
     parallel_for(triangle_count, threads, [&](std::size_t i) { out.tris[i] = make_tri(positions, indices, prims[i].id()); });
-    for (const clvis_bvh_node& n : out.nodes) out.leaves += n.count > 0;
-    out.sah_cost = bvh_sah_cost(out.nodes);
+    totals.wait();
     return out;
 }
 

@@ -17,6 +17,10 @@ namespace clvis::detail {
 struct Prim {
     v4f lo, hi;
 
+    /// Uninitialised: the build's array of millions is written once, in parallel, not zeroed first.
+    Prim() {}
+    Prim(v4f lo_, v4f hi_) : lo(lo_), hi(hi_) {}
+
     std::uint32_t id() const
     {
         v4i bits = reinterpret_cast<v4i>(lo);
