@@ -116,8 +116,10 @@ public:
             split_median(r, left, right);
             return true;
         }
-        // No more bins than triangles: near the leaves the sweep would cost more than the binning.
-        int bins = int(std::min<std::uint32_t>(std::uint32_t(opt_.sah_bins), std::max<std::uint32_t>(n, 4)));
+        // A bin per 4 triangles at most: near the leaves the sweep would cost more than the
+        // binning. 1 per triangle cost 11% more instructions (a 64k sphere) for an SAH cost at most
+        // 0.5% lower (a 64k soup; the bunny's 0.1%).
+        int bins = int(std::min<std::uint32_t>(std::uint32_t(opt_.sah_bins), std::max<std::uint32_t>(n / 4, 4)));
         BinMap map(r.cbox, bins);
         Bins binned(bins);
         bin(r, map, workers, binned);
