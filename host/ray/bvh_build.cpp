@@ -121,9 +121,14 @@ public:
         // 0.5% lower (a 64k soup; the bunny's 0.1%).
         int bins = int(std::min<std::uint32_t>(std::uint32_t(opt_.sah_bins), std::max<std::uint32_t>(n / 4, 4)));
         BinMap map(r.cbox, bins);
-        Bins binned(bins);
-        bin(r, map, workers, binned);
-        BinSplit best = sweep_bins(binned, map, n);
+        BinSplit best;
+        if (n == 2) { // most of a soup's splits: the sweep's answer without the bins
+            best = sweep_pair(prims_.data() + r.begin, map);
+        } else {
+            Bins binned(bins);
+            bin(r, map, workers, binned);
+            best = sweep_bins(binned, map, n);
+        }
         if (best.axis < 0) { // every centroid in one bin on every axis: only rounding apart
             if (!must_split) return false;
             split_median(r, left, right);

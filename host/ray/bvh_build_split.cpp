@@ -75,6 +75,23 @@ CLVIS_SPLIT_CLONES BinSplit sweep_bins(const Bins& bins, const BinMap& map, std:
     return s;
 }
 
+BinSplit sweep_pair(const Prim* pair, const BinMap& map)
+{
+    // The sweep would see each in a bin of its own on such an axis: from the lower one's bin on,
+    // every split costs the same (a + b), so the first wins, and so does the lowest axis.
+    VBox a = pair[0].box(), b = pair[1].box();
+    v4i ka = map.bins3(centroid(a)), kb = map.bins3(centroid(b));
+    BinSplit s;
+    for (int x = 0; x < 3; ++x)
+        if (map.valid[x] && ka[x] != kb[x]) {
+            s.axis = x;
+            s.k = std::min(ka[x], kb[x]);
+            s.cost = a.half_area() + b.half_area();
+            break;
+        }
+    return s;
+}
+
 CLVIS_SPLIT_CLONES void partition_prims(Prim* prims, const Range& r, const BinMap& map, int axis, int k, Range& left, Range& right)
 {
     std::uint32_t i = r.begin, j = r.end;

@@ -119,6 +119,11 @@ void bin_prims(const Prim* prims, std::uint32_t b, std::uint32_t e, const BinMap
 /// the lower bin.
 BinSplit sweep_bins(const Bins& bins, const BinMap& map, std::uint32_t n);
 
+/// sweep_bins' answer for a range of two primitives, without binning them: they part on the
+/// lowest valid axis whose bins tell them apart, after the lower one's bin, for the sum of their
+/// areas (the same bits); axis -1 when no axis does.
+BinSplit sweep_pair(const Prim* pair, const BinMap& map);
+
 /// Moves the primitives of `r` whose centroid falls in bins 0..k on `axis` to its front (in
 /// place, an order fixed by the input) and sets both halves with their bounds.
 void partition_prims(Prim* prims, const Range& r, const BinMap& map, int axis, int k, Range& left, Range& right);
