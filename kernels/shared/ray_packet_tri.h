@@ -53,6 +53,13 @@ static packet_edges packet_edges_of(const packet* p, lanes_f akx, lanes_f aky, l
 /* Lanes where a value is not finite (clvis_finite's bits). */
 static lanes_i not_finite(lanes_f v) { return (as_uint16(v) & 0x7F800000u) == 0x7F800000u; }
 
+/* Lanes where the edge functions do not take both signs. (Masks come only from comparisons, never
+   from ~, so every lane is 0 or -1 on every implementation.) */
+static lanes_i not_outside(packet_edges r)
+{
+    return ((r.u >= 0.0f) & (r.v >= 0.0f) & (r.w >= 0.0f)) | ((r.u <= 0.0f) & (r.v <= 0.0f) & (r.w <= 0.0f));
+}
+
 /* clvis_intersect_triangle on every lane (culling by `faces`, CLVIS_CULL_*), keeping each lane's
    nearest key (t bits, then id). The vertices are permuted to each lane's shear axes and the lane's permuted origin subtracted: the
    same single subtraction as the scalar test, whichever comes first. */
@@ -95,7 +102,11 @@ static void packet_test_triangle(const packet* p, const float* vert, uint tri_id
     packet_edges r = packet_edges_of(p, akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz);
     lanes_f unscale = (lanes_f)(1.0f);
     lanes_i huge = not_finite(r.det) | not_finite(r.tz);
-    if (or_lanes(huge)) {
+    lanes_i inside = not_outside(r);
+    /* Most triangles of a leaf miss every ray: then no lane's key can change (skip the division) */
+    int any_lane = or_lanes((huge & 1) | (inside & 2));
+    if (!any_lane) return;
+    if (any_lane & 1) {
         /* clvis_intersect_triangle's scaled retest: every coordinate times clvis_ray_scale of the
            largest magnitude among the vertices and the lane's origin. */
         float m = 0.0f;
@@ -121,10 +132,8 @@ static void packet_test_triangle(const packet* p, const float* vert, uint tri_id
         r.det = select(r.det, q.det, huge);
         r.tz = select(r.tz, q.tz, huge);
         unscale = select(unscale, 1.0f / k, huge);
+        inside = not_outside(r);
     }
-    /* Not outside: the edge functions do not take both signs. (Masks come only from comparisons,
-       never from ~, so every lane is 0 or -1 on every implementation.) */
-    lanes_i inside = ((r.u >= 0.0f) & (r.v >= 0.0f) & (r.w >= 0.0f)) | ((r.u <= 0.0f) & (r.v <= 0.0f) & (r.w <= 0.0f));
     lanes_f t = r.tz / r.det * unscale;
     lanes_i hit = inside & (r.det != 0.0f) & (t >= near_t) & (t <= far_t);
     if (faces == CLVIS_CULL_BACK) hit &= r.det > 0.0f; /* clvis_cull_keeps on every lane */
