@@ -228,10 +228,12 @@ static void trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int 
     ulong best[CLVIS_PACKET];
     for (int l = 0; l < CLVIS_PACKET; ++l) best[l] = ((ulong)t_bits[l] << 32) | ids[l];
 #endif
-    for (int l = 0; l < CLVIS_PACKET; ++l) {
-        int x = x0 + l % CLVIS_PACKET_W, y = y0 + l / CLVIS_PACKET_W;
-        if (x < x_end && y < y_end)
-            keys[(((size_t)(y - region.y) * region.width + (x - region.x)) << cam.sample_log2) + cam.sample] = best[l];
+    /* Row by row, one address per row: the packet's corner lies in the region (the launch). */
+    int w = min(CLVIS_PACKET_W, x_end - x0), h = min(CLVIS_PACKET_H, y_end - y0);
+    for (int j = 0; j < h; ++j) {
+        __global ulong* row =
+            keys + ((((size_t)(y0 + j - region.y) * region.width + (x0 - region.x)) << cam.sample_log2) + cam.sample);
+        for (int i = 0; i < w; ++i) row[(size_t)i << cam.sample_log2] = best[j * CLVIS_PACKET_W + i];
     }
 }
 
