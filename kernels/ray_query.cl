@@ -174,13 +174,15 @@ static int4 hits_boxes(__global const clvis_bvh4_node* n, __global const clvis_i
     float4 fy = ((br.neg_y ? loy : hiy) - br.origin.y) * br.inv.y;
     float4 fz = ((br.neg_z ? loz : hiz) - br.origin.z) * br.inv.z;
 #else
-    __global const float* rows = n->lo_x; /* lo_x, hi_x, lo_y, hi_y, lo_z, hi_z: four floats each */
-    float4 nx = (vload4(br.neg_x, rows) - br.origin.x) * br.inv.x;
-    float4 ny = (vload4(2 + br.neg_y, rows) - br.origin.y) * br.inv.y;
-    float4 nz = (vload4(4 + br.neg_z, rows) - br.origin.z) * br.inv.z;
-    float4 fx = (vload4(1 - br.neg_x, rows) - br.origin.x) * br.inv.x;
-    float4 fy = (vload4(3 - br.neg_y, rows) - br.origin.y) * br.inv.y;
-    float4 fz = (vload4(5 - br.neg_z, rows) - br.origin.z) * br.inv.z;
+    /* lo_x, hi_x, lo_y, hi_y, lo_z, hi_z: four floats each, 16-byte aligned in a 128-byte node (one
+       aligned load per row, where vload4 of a float pointer is split in two) */
+    __global const float4* rows = (__global const float4*)n->lo_x;
+    float4 nx = (rows[br.neg_x] - br.origin.x) * br.inv.x;
+    float4 ny = (rows[2 + br.neg_y] - br.origin.y) * br.inv.y;
+    float4 nz = (rows[4 + br.neg_z] - br.origin.z) * br.inv.z;
+    float4 fx = (rows[1 - br.neg_x] - br.origin.x) * br.inv.x;
+    float4 fy = (rows[3 - br.neg_y] - br.origin.y) * br.inv.y;
+    float4 fz = (rows[5 - br.neg_z] - br.origin.z) * br.inv.z;
 #endif
     /* clvis_raise / clvis_lower: a NaN (origin in a slab's plane, 0 * inf) constrains nothing */
     float4 t0 = (float4)(near_t);
@@ -238,7 +240,8 @@ typedef struct walker {
 
 /* The stacks of one lane. */
 typedef struct walk_stack {
-    uint ref[CLVIS_RAY_STACK];
+    uint ref[CLVIS_RAY_STACK];   /* a child: a node's index or a leaf's first triangle slot */
+    uint count[CLVIS_RAY_STACK]; /* 0: a node; > 0: the leaf's triangles */
     float enter[CLVIS_RAY_STACK];
 #ifdef CLVIS_INSTANCES
     uint inst[CLVIS_RAY_STACK];
@@ -264,52 +267,87 @@ static void walk_step(__global const clvis_bvh4_node* nodes, __global const clvi
     vstore4(e4, 0, e);
     vstore4(hit4, 0, h);
     uint first = w->sp, sp = w->sp;
+    /* The nearest child the ray meets (closest; the first otherwise) is visited next without a
+       trip through the stack; the others are pushed far to near (closest) as (child, count). */
+    int next = -1;
+    float next_e = 0.0f;
     /* (a loop over the set bits of a hit mask instead, with clz, crashes Oclgrind 21.10's
        uninitialised-value checker, and was no faster on PoCL) */
     for (uint k = 0; k < 4; ++k) {
         if (!h[k]) continue;
         clvis_prefetch_child(nodes, tris, n, (int)k);
+        if (next < 0) {
+            next = (int)k;
+            next_e = e[k];
+            continue;
+        }
+        uint push = k;
+        float push_e = e[k];
+#if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
+        if (push_e < next_e) {
+            push = (uint)next;
+            push_e = next_e;
+            next = (int)k;
+            next_e = e[k];
+        }
+#endif
         uint i = sp++;
 #if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
-        for (; i > first && st->enter[i - 1] < e[k]; --i) {
+        for (; i > first && st->enter[i - 1] < push_e; --i) {
             st->ref[i] = st->ref[i - 1];
+            st->count[i] = st->count[i - 1];
             st->enter[i] = st->enter[i - 1];
         }
 #endif
-        st->ref[i] = w->node << 2 | k;
-        st->enter[i] = e[k];
+        st->ref[i] = n->child[push];
+        st->count[i] = n->count[push];
+        st->enter[i] = push_e;
     }
 #ifdef CLVIS_INSTANCES
     for (uint j = first; j < sp; ++j) st->inst[j] = w->inst; /* all of this node */
 #endif
     w->node = CLVIS_BACKGROUND_ID;
-    while (sp > 0) {
-        uint ref = st->ref[--sp];
-        if (st->enter[sp] > query_far(w->r, &w->a) * CLVIS_IZE_SCALE) continue;
+    /* the entry at hand: child `ref` (a node when cnt is 0, else a leaf of cnt), met at `at` */
+    uint ref = 0, cnt = 0;
+    float at = next_e;
+    if (next >= 0) {
+        ref = n->child[next];
+        cnt = n->count[next];
+    }
+    for (;;) {
+        if (next < 0) {
+            if (sp == 0) break;
+            --sp;
+            at = st->enter[sp];
+            if (at > query_far(w->r, &w->a) * CLVIS_IZE_SCALE) continue;
+            ref = st->ref[sp];
+            cnt = st->count[sp];
 #ifdef CLVIS_INSTANCES
-        w->inst = st->inst[sp];
-        xi = w->inst < CLVIS_INST_TOP ? instances + w->inst : 0;
-        if (ref == CLVIS_ENTER_INSTANCE) {
-            w->node = clvis_enter_instance(instances, w->inst, &w->inst, &xi);
-            break;
-        }
+            w->inst = st->inst[sp];
+            xi = w->inst < CLVIS_INST_TOP ? instances + w->inst : 0;
+            if (ref == CLVIS_ENTER_INSTANCE) {
+                w->node = clvis_enter_instance(instances, w->inst, &w->inst, &xi);
+                break;
+            }
 #endif
-        __global const clvis_bvh4_node* p = nodes + (ref >> 2);
-        uint k = ref & 3u, cnt = p->count[k];
+        }
+        next = -1;
         if (cnt == 0) {
-            w->node = p->child[k];
+            w->node = ref;
             break;
         }
 #ifdef CLVIS_INSTANCES
         if (w->inst == CLVIS_INST_TOP) {
             uint pushed = sp;
-            float at = st->enter[sp]; /* the leaf's entry distance */
-            w->node = clvis_enter_instances(p, (int)k, instances, st->ref, st->inst, &sp, &w->inst, &xi);
-            for (; pushed < sp; ++pushed) st->enter[pushed] = at;
+            w->node = clvis_enter_instances(ref, cnt, instances, st->ref, st->inst, &sp, &w->inst, &xi);
+            for (; pushed < sp; ++pushed) {
+                st->enter[pushed] = at; /* the leaf's entry distance */
+                st->count[pushed] = 0u;
+            }
             break;
         }
 #endif
-        if (leaf(tris, p->child[k], cnt, xi, w->s, w->r, &w->a)) break; /* answered: node stays none */
+        if (leaf(tris, ref, cnt, xi, w->s, w->r, &w->a)) break; /* answered: node stays none */
     }
     w->sp = sp;
 }

@@ -165,7 +165,8 @@ static void trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int 
     packet_test_leaf(&p, tris, nd->child[k], nd->count[k], xi, cam, faces, &best_t, &best_id, &cull)
 #endif
 #define CLVIS_OPEN_LEAF(nd, k)                                                                            \
-    if (inst == CLVIS_INST_TOP) node = clvis_enter_instances(nd, k, instances, stack, stack_inst, &sp, &inst, &xi); \
+    if (inst == CLVIS_INST_TOP)                                                                           \
+        node = clvis_enter_instances(nd->child[k], nd->count[k], instances, stack, stack_inst, &sp, &inst, &xi); \
     else CLVIS_TEST_LEAF(nd, k)
 
     uint stack[CLVIS_RAY_STACK], stack_inst[CLVIS_RAY_STACK];

@@ -143,7 +143,7 @@ static uint open_child(single_ray* r, clvis_camera_gpu cam, int faces, __global 
     if (nd->count[k] == 0) return nd->child[k];
     if (*inst == CLVIS_INST_TOP) {
         uint pushed = st->sp;
-        uint root = clvis_enter_instances(nd, k, instances, st->entry, st->inst, &st->sp, inst, xi);
+        uint root = clvis_enter_instances(nd->child[k], nd->count[k], instances, st->entry, st->inst, &st->sp, inst, xi);
         for (; pushed < st->sp; ++pushed) st->enter[pushed] = at;
         return root;
     }

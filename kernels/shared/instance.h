@@ -126,16 +126,15 @@ static inline clvis_u32 clvis_enter_instance(CLVIS_GLOBAL const clvis_instance* 
     return tree & ~CLVIS_INSTANCE_PLAIN;
 }
 
-/* Enters the entries of top-level leaf (nd, k) (up to four): the first now (inst, xi), the others
-   pushed as stack entries CLVIS_ENTER_INSTANCE beside their index. Returns the first one's root
-   node. */
-static inline clvis_u32 clvis_enter_instances(CLVIS_GLOBAL const clvis_bvh4_node* nd, int k,
+/* Enters the `count` entries from `first` of a top-level leaf (up to four): the first now (inst,
+   xi), the others pushed as stack entries CLVIS_ENTER_INSTANCE beside their index. Returns the
+   first one's root node. */
+static inline clvis_u32 clvis_enter_instances(clvis_u32 first, clvis_u32 count,
                                               CLVIS_GLOBAL const clvis_instance* instances, clvis_u32* stack,
                                               clvis_u32* stack_inst, clvis_u32* sp, clvis_u32* inst,
                                               CLVIS_GLOBAL const clvis_instance** xi)
 {
-    clvis_u32 first = nd->child[k];
-    for (clvis_u32 j = nd->count[k] - 1; j > 0; --j) {
+    for (clvis_u32 j = count - 1; j > 0; --j) {
         stack[*sp] = CLVIS_ENTER_INSTANCE;
         stack_inst[(*sp)++] = first + j;
     }
