@@ -221,10 +221,11 @@ static void clvis_prefetch_child(__global const clvis_bvh4_node* nodes, __global
    walks of CLVIS_QUERY_LANES rays: while one lane waits for the node it popped, the others' loads
    are in flight. Of the children that the ray meets, the nearest is visited next; the others are
    pushed far to near (by entry distance) as (child, count) with their entry distance, and popped
-   while they may still hold a hit before the nearest so far (closest) or in [tmin, tmax]. With CLVIS_INSTANCES each entry also remembers
-   its instance (or the top level, or the plain meshes' flat tree), a top-level leaf enters its
-   instances (the first at once, the others pushed as CLVIS_ENTER_INSTANCE entries at the leaf's
-   entry distance), and boxes and triangles of an instance are tested in world space. */
+   while they may still hold a hit before the nearest so far (closest) or in [tmin, tmax]. With
+   CLVIS_INSTANCES each entry also remembers its instance (or the top level, or the plain meshes'
+   flat tree), a top-level leaf enters its instances (the first at once, the others pushed as
+   CLVIS_ENTER_INSTANCE entries at the leaf's entry distance), and boxes and triangles of an
+   instance are tested in world space. */
 typedef struct walker {
     clvis_ray_rec r;
     clvis_ray_shear s;
