@@ -3,11 +3,11 @@
 // sharing leaves with small ones (its re-scaled projection): every answer of the BVH walk equals
 // brute force bit for bit.
 #include "catch.hpp"
+#include "ray_query_check.hpp"
 
 #include <clvis/clvis.hpp>
 #include <clvis/ray_query.hpp>
 
-#include <cstring>
 #include <limits>
 #include <random>
 
@@ -50,13 +50,6 @@ MeshData huge_and_small()
     return m;
 }
 
-std::uint32_t bits(float f)
-{
-    std::uint32_t u;
-    std::memcpy(&u, &f, 4);
-    return u;
-}
-
 /// Rays from above and below toward integer and half-integer points of the plane z = 0 (vertices,
 /// edges, interiors), axis-parallel ones, random ones and ones from far away (1e29).
 std::vector<RayRecord> leaf_rays(std::size_t n, unsigned seed)
@@ -95,36 +88,13 @@ std::vector<RayRecord> upward_rays(std::size_t n, unsigned seed)
 }
 
 /// The BVH walk (leaves up to `leaf` triangles) against brute force on closest, any and count.
-void check_leaves(const MeshData& mesh, const std::vector<RayRecord>& r, int leaf)
+void check_leaves(const MeshData& mesh, const std::vector<RayRecord>& rays, int leaf)
 {
     Scene scene;
     scene.add_mesh(mesh);
     RenderOptions o;
     o.bvh.max_leaf_size = leaf;
-    Renderer renderer(Device::open(), scene, o);
-    RayQuery walk(renderer), brute(renderer, RayQueryOptions{std::size_t(1) << 20, true});
-    std::vector<HitRecord> hw(r.size()), hb(r.size());
-    std::vector<std::uint8_t> fw(r.size()), fb(r.size());
-    std::vector<std::uint32_t> cw(r.size()), cb(r.size());
-    walk.closest({r.data(), r.size()}, hw.data());
-    brute.closest({r.data(), r.size()}, hb.data());
-    walk.occluded({r.data(), r.size()}, fw.data());
-    brute.occluded({r.data(), r.size()}, fb.data());
-    walk.count({r.data(), r.size()}, cw.data());
-    brute.count({r.data(), r.size()}, cb.data());
-    std::size_t hits = 0;
-    for (std::size_t i = 0; i < r.size(); ++i) {
-        INFO("ray " << i << " (" << r[i].ox << ", " << r[i].oy << ", " << r[i].oz << ") + t (" << r[i].dx << ", "
-                    << r[i].dy << ", " << r[i].dz << "), tmax " << r[i].tmax);
-        REQUIRE(bits(hw[i].t) == bits(hb[i].t));
-        REQUIRE(hw[i].id == hb[i].id);
-        REQUIRE(bits(hw[i].u) == bits(hb[i].u));
-        REQUIRE(bits(hw[i].v) == bits(hb[i].v));
-        REQUIRE(fw[i] == fb[i]);
-        REQUIRE(cw[i] == cb[i]);
-        hits += hw[i].id != background_id;
-    }
-    CHECK(hits > r.size() / 20);
+    test::check_scene(scene, rays, false, o);
 }
 
 } // namespace
