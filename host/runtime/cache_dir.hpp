@@ -1,5 +1,5 @@
-// Where clvis keeps what it learns about devices between runs: program binaries (device.cpp, for
-// drivers that do not cache them) and tuned choices (tune_cache.cpp).
+// Where clvis keeps what it learns about devices between runs: program binaries
+// (program_cache.cpp) and tuned choices (tune_cache.cpp).
 #pragma once
 
 #include <filesystem>

@@ -1,17 +1,15 @@
 // OpenCL platforms and devices: listing, selection by spec, wrapping a caller's context, the
-// program cache (in memory, and on disk for drivers that do not cache binaries themselves), and
+// program cache (in memory, and on disk through program_cache.hpp), and
 // the translation of OpenCL errors into clvis::Error.
 #include "lower_case.hpp"
-#include "runtime/cache_dir.hpp"
 #include "runtime/cl_runtime.hpp"
+#include "runtime/program_cache.hpp"
 
 #include "runtime/embedded_kernels.hpp"
 
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <functional>
 #include <map>
 #include <mutex>
@@ -226,7 +224,8 @@ std::string hex64(std::uint64_t v)
     return os.str();
 }
 
-/// Drivers that cache compiled programs themselves (PoCL keeps a kernel cache of its own).
+/// Drivers that cache compiled programs themselves (PoCL keeps a kernel cache of its own; see
+/// program_cache.hpp).
 bool driver_caches_programs(const DeviceInfo& info)
 {
     return info.platform.find("Portable Computing Language") != std::string::npos;
@@ -251,27 +250,6 @@ std::string build_log(const cl::Program& program)
         // Some drivers report no log for a program that failed before compiling: keep the code.
     }
     return log;
-}
-
-/// Keeps a built program's binary for drivers that do not cache programs themselves.
-void store_binary(const cl::Program& program, const std::filesystem::path& cache_file)
-{
-    try {
-        auto binaries = program.getInfo<CL_PROGRAM_BINARIES>();
-        std::error_code ec;
-        std::filesystem::create_directories(cache_file.parent_path(), ec);
-        std::filesystem::path tmp = cache_file;
-        tmp += ".tmp";
-        std::ofstream out(tmp, std::ios::binary);
-        if (out && !binaries.empty() && !binaries[0].empty()) {
-            out.write(reinterpret_cast<const char*>(binaries[0].data()), std::streamsize(binaries[0].size()));
-            out.close();
-            std::filesystem::rename(tmp, cache_file, ec);
-        }
-    } catch (const cl::Error&) {
-        // The on-disk cache is an optimisation: a driver that will not hand out its binary simply
-        // builds from source next time.
-    }
 }
 
 } // namespace
@@ -456,30 +434,13 @@ cl::Program Device::Impl::program(const std::string& name, const std::string& ex
     const std::string& source = embedded_kernel(name);
     std::string hash = hex64(std::hash<std::string>{}(source + "\n" + options + "\n" + info.name +
                                                       "\n" + info.driver_version + "\n" + info.platform));
-    std::filesystem::path cache_file;
-    if (!driver_caches_programs(info)) {
-        std::filesystem::path dir = cache_dir();
-        if (!dir.empty()) cache_file = dir / (name + "-" + hash + ".bin");
-    }
-
+    ProgramCache cache(name, hash, driver_caches_programs(info));
     cl::Program program;
-    bool from_binary = false;
-    if (!cache_file.empty()) {
-        std::ifstream in(cache_file, std::ios::binary);
-        if (in) {
-            std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), {});
-            try {
-                program = cl::Program(context, {device}, cl::Program::Binaries{bytes});
-                program.build({device}, options.c_str());
-                from_binary = true;
-            } catch (const cl::Error&) {
-                from_binary = false; // a stale or foreign binary: rebuild from source below
-            }
-        }
-    }
-    if (!from_binary) {
+    if (auto cached = cache.load(context, device, options)) {
+        program = *cached;
+    } else {
         program = build_source("kernels/" + name + ".cl", source, extra);
-        if (!cache_file.empty()) store_binary(program, cache_file);
+        cache.built(program);
     }
     programs.emplace(key, program);
     return program;
