@@ -53,24 +53,34 @@ static int or_lanes(lanes_i m)
 static lanes_f raise(lanes_f acc, lanes_f v) { return select(acc, v, v > acc); }
 static lanes_f lower(lanes_f acc, lanes_f v) { return select(acc, v, v < acc); }
 
-/* The smallest and the largest lane (of lanes without NaN), by halves as or_lanes. */
+/* The smallest and the largest lane, by halves as or_lanes, for lanes without NaN and without
+   both signs of zero (then every comparison picks the one value fmin and fmax would). */
 static float min_lanes(lanes_f v)
 {
     float r[CLVIS_PACKET];
     vstore16(v, 0, r);
-    vstore8(fmin(vload8(0, r), vload8(1, r)), 0, r);
-    vstore4(fmin(vload4(0, r), vload4(1, r)), 0, r);
-    return fmin(fmin(r[0], r[1]), fmin(r[2], r[3]));
+    float8 a = vload8(0, r), b = vload8(1, r);
+    vstore8(select(a, b, b < a), 0, r);
+    float4 c = vload4(0, r), d = vload4(1, r);
+    vstore4(select(c, d, d < c), 0, r);
+    float e = r[1] < r[0] ? r[1] : r[0], f = r[3] < r[2] ? r[3] : r[2];
+    return f < e ? f : e;
 }
 
-static float max_lanes(lanes_f v) { return -min_lanes(-v); }
+static float max_lanes(lanes_f v)
+{
+    float r[CLVIS_PACKET];
+    vstore16(v, 0, r);
+    float8 a = vload8(0, r), b = vload8(1, r);
+    vstore8(select(a, b, b > a), 0, r);
+    float4 c = vload4(0, r), d = vload4(1, r);
+    vstore4(select(c, d, d > c), 0, r);
+    float e = r[1] > r[0] ? r[1] : r[0], f = r[3] > r[2] ? r[3] : r[2];
+    return f > e ? f : e;
+}
 
-/* Lanes where v is finite and not zero. */
-static lanes_i finite_nonzero(lanes_f v) { return ((as_uint16(v) & 0x7F800000u) != 0x7F800000u) & (v != 0.0f); }
-
-/* Lane l's pixel offset within the packet: (l % 4, l / 4). */
-#define CLVIS_LANE_X ((lanes_i)(0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3))
-#define CLVIS_LANE_Y ((lanes_i)(0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3))
+/* Lanes where a value is not finite (clvis_finite's bits). */
+static lanes_i not_finite(lanes_f v) { return (as_uint16(v) & 0x7F800000u) == 0x7F800000u; }
 
 static lanes_f component(lanes_f x, lanes_f y, lanes_f z, lanes_i k)
 {
@@ -80,13 +90,20 @@ static lanes_f component(lanes_f x, lanes_f y, lanes_f z, lanes_i k)
 /* The packet's rays: clvis_primary_ray, clvis_make_shear and clvis_make_box_ray on 16 lanes, the
    same operations in the same order, so each lane holds the bits the scalar code gives its pixel.
    Lanes past the image's edge repeat the edge pixel's ray and are not written. */
-static void make_packet(clvis_camera_gpu cam, int x0, int y0, packet* out)
+static void make_packet(clvis_camera_gpu cam, int x0, int y0, packet* p)
 {
-    lanes_f rx = convert_float16(min((lanes_i)(x0) + CLVIS_LANE_X, (lanes_i)(cam.width - 1))) + clvis_camera_sample(cam).x;
-    lanes_f ry = convert_float16(min((lanes_i)(y0) + CLVIS_LANE_Y, (lanes_i)(cam.height - 1))) + clvis_camera_sample(cam).y;
-    /* clvis_screen_from_raster */
-    lanes_f sx = (rx - cam.cx) / cam.fx;
-    lanes_f sy = (cam.cy - ry) / cam.fy;
+    /* clvis_screen_from_raster, once per column and once per row of the packet, then spread over
+       the lanes through private memory (Oclgrind 21.10 crashed on the swizzles that would do it) */
+    float4 rx = convert_float4(min((int4)(x0) + (int4)(0, 1, 2, 3), (int4)(cam.width - 1))) + clvis_camera_sample(cam).x;
+    float4 ry = convert_float4(min((int4)(y0) + (int4)(0, 1, 2, 3), (int4)(cam.height - 1))) + clvis_camera_sample(cam).y;
+    float4 col = (rx - cam.cx) / cam.fx;
+    float rows[CLVIS_PACKET_H], sxa[CLVIS_PACKET], sya[CLVIS_PACKET];
+    vstore4((cam.cy - ry) / cam.fy, 0, rows);
+    for (int j = 0; j < CLVIS_PACKET_H; ++j) {
+        vstore4(col, j, sxa);
+        vstore4((float4)(rows[j]), j, sya);
+    }
+    lanes_f sx = vload16(0, sxa), sy = vload16(0, sya);
     /* clvis_primary_ray */
     lanes_f ox, oy, oz, dx, dy, dz;
     if (cam.ortho) {
@@ -104,6 +121,12 @@ static void make_packet(clvis_camera_gpu cam, int x0, int y0, packet* out)
         dy = sx * cam.r_y + sy * cam.u_y + cam.f_y;
         dz = sx * cam.r_z + sy * cam.u_z + cam.f_z;
     }
+    /* clvis_make_box_ray's reciprocals, which clvis_make_shear's 1 / d_kz is one of */
+    p->ox = ox; p->oy = oy; p->oz = oz;
+    p->cx = dx.s5; p->cy = dy.s5; p->cz = dz.s5;
+    p->ix = 1.0f / dx; p->iy = 1.0f / dy; p->iz = 1.0f / dz;
+    p->nx = p->ix < 0.0f; p->ny = p->iy < 0.0f; p->nz = p->iz < 0.0f;
+    p->neg_x = p->nx.s0; p->neg_y = p->ny.s0; p->neg_z = p->nz.s0;
     /* clvis_make_shear */
     lanes_f ax = fabs(dx), ay = fabs(dy), az = fabs(dz);
     lanes_i kz = select(select((lanes_i)(2), (lanes_i)(1), ay >= az), (lanes_i)(0), (ax >= ay) & (ax >= az));
@@ -114,36 +137,38 @@ static void make_packet(clvis_camera_gpu cam, int x0, int y0, packet* out)
     lanes_i kx_s = select(kx, ky, swap);
     ky = select(ky, kx, swap);
     kx = kx_s;
-    packet p;
-    p.sx = component(dx, dy, dz, kx) / d_kz;
-    p.sy = component(dx, dy, dz, ky) / d_kz;
-    p.sz = 1.0f / d_kz;
-    p.px = component(ox, oy, oz, kx);
-    p.py = component(ox, oy, oz, ky);
-    p.pz = component(ox, oy, oz, kz);
-    p.kx0 = kx == 0; p.kx1 = kx == 1;
-    p.ky0 = ky == 0; p.ky1 = ky == 1;
-    p.kz0 = kz == 0; p.kz1 = kz == 1;
-    p.ukx = kx.s0; p.uky = ky.s0; p.ukz = kz.s0;
-    p.uniform = !any((kx != p.ukx) | (ky != p.uky));
-    p.common_origin = p.uniform && !cam.ortho;
-    p.uox = pick(cam.eye_x, cam.eye_y, cam.eye_z, p.ukx);
-    p.uoy = pick(cam.eye_x, cam.eye_y, cam.eye_z, p.uky);
-    p.uoz = pick(cam.eye_x, cam.eye_y, cam.eye_z, p.ukz);
-    /* clvis_make_box_ray */
-    p.ox = ox; p.oy = oy; p.oz = oz;
-    p.cx = dx.s5; p.cy = dy.s5; p.cz = dz.s5;
-    p.ix = 1.0f / dx; p.iy = 1.0f / dy; p.iz = 1.0f / dz;
-    p.nx = p.ix < 0.0f; p.ny = p.iy < 0.0f; p.nz = p.iz < 0.0f;
-    p.neg_x = p.nx.s0; p.neg_y = p.ny.s0; p.neg_z = p.nz.s0;
-    p.same_signs = !any((p.nx != p.neg_x) | (p.ny != p.neg_y) | (p.nz != p.neg_z));
-    p.perspective = !cam.ortho;
-    p.eye_x = cam.eye_x; p.eye_y = cam.eye_y; p.eye_z = cam.eye_z;
-    p.span = p.perspective && p.same_signs && all(finite_nonzero(p.ix) & finite_nonzero(p.iy) & finite_nonzero(p.iz));
-    p.ix_lo = min_lanes(p.ix); p.ix_hi = max_lanes(p.ix);
-    p.iy_lo = min_lanes(p.iy); p.iy_hi = max_lanes(p.iy);
-    p.iz_lo = min_lanes(p.iz); p.iz_hi = max_lanes(p.iz);
-    *out = p;
+    p->sx = component(dx, dy, dz, kx) / d_kz;
+    p->sy = component(dx, dy, dz, ky) / d_kz;
+    p->sz = component(p->ix, p->iy, p->iz, kz);
+    p->px = component(ox, oy, oz, kx);
+    p->py = component(ox, oy, oz, ky);
+    p->pz = component(ox, oy, oz, kz);
+    p->kx0 = kx == 0; p->kx1 = kx == 1;
+    p->ky0 = ky == 0; p->ky1 = ky == 1;
+    p->kz0 = kz == 0; p->kz1 = kz == 1;
+    p->ukx = kx.s0; p->uky = ky.s0; p->ukz = kz.s0;
+    /* The lanes that differ from lane 0, one reduction for three flags: bit 0 in its permutation,
+       bit 1 in its entry planes; bit 2 marks a 1 / direction that is infinite, NaN or 0. */
+    int mixed = or_lanes((((kx != p->ukx) | (ky != p->uky)) & 1) |
+                         (((p->nx != p->neg_x) | (p->ny != p->neg_y) | (p->nz != p->neg_z)) & 2) |
+                         ((not_finite(p->ix) | (p->ix == 0.0f) | not_finite(p->iy) | (p->iy == 0.0f) |
+                           not_finite(p->iz) | (p->iz == 0.0f)) & 4));
+    p->uniform = !(mixed & 1);
+    p->common_origin = p->uniform && !cam.ortho;
+    p->uox = pick(cam.eye_x, cam.eye_y, cam.eye_z, p->ukx);
+    p->uoy = pick(cam.eye_x, cam.eye_y, cam.eye_z, p->uky);
+    p->uoz = pick(cam.eye_x, cam.eye_y, cam.eye_z, p->ukz);
+    p->same_signs = !(mixed & 2);
+    p->perspective = !cam.ortho;
+    p->eye_x = cam.eye_x; p->eye_y = cam.eye_y; p->eye_z = cam.eye_z;
+    p->span = p->perspective && p->same_signs && !(mixed & 4);
+    /* the ranges only the interval test reads, which has neither NaN nor zeros */
+    p->ix_lo = p->ix_hi = p->iy_lo = p->iy_hi = p->iz_lo = p->iz_hi = 0.0f;
+    if (p->span) {
+        p->ix_lo = min_lanes(p->ix); p->ix_hi = max_lanes(p->ix);
+        p->iy_lo = min_lanes(p->iy); p->iy_hi = max_lanes(p->iy);
+        p->iz_lo = min_lanes(p->iz); p->iz_hi = max_lanes(p->iz);
+    }
 }
 
 #ifndef CLVIS_RASTER_RULE /* the watertight test (ray_trace.cl has the raster rule's) */

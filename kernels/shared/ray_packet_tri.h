@@ -50,9 +50,6 @@ static packet_edges packet_edges_of(const packet* p, lanes_f akx, lanes_f aky, l
     return r;
 }
 
-/* Lanes where a value is not finite (clvis_finite's bits). */
-static lanes_i not_finite(lanes_f v) { return (as_uint16(v) & 0x7F800000u) == 0x7F800000u; }
-
 /* Lanes where the edge functions do not take both signs. (Masks come only from comparisons, never
    from ~, so every lane is 0 or -1 on every implementation.) */
 static lanes_i not_outside(packet_edges r)
