@@ -11,11 +11,31 @@ static lanes_f permuted(float x, float y, float z, lanes_i k0, lanes_i k1)
     return select(select((lanes_f)(z), (lanes_f)(y), k1), (lanes_f)(x), k0);
 }
 
-/* clvis_ray_edges_of on every lane: the shear, the edge functions (with the exact recompute,
-   clvis_exact_edges, on the lanes where one rounded to zero: one OR of the lanes decides), det
-   and tz. */
 typedef struct { lanes_f u, v, w, det, tz; } packet_edges;
 
+/* The scalar code's exact fallback (clvis_exact_edges), lane by lane, on the lanes where an edge
+   function rounded to zero. It is rare and kept out of line, so that packet_edges_of, free of its
+   arrays, is inlined into every triangle's test. */
+__attribute__((noinline)) static packet_edges packet_exact_edges(packet_edges r, lanes_i zero, lanes_f ax, lanes_f ay,
+                                                                 lanes_f bx, lanes_f by, lanes_f cx, lanes_f cy)
+{
+    float l_ax[CLVIS_PACKET], l_ay[CLVIS_PACKET], l_bx[CLVIS_PACKET], l_by[CLVIS_PACKET], l_cx[CLVIS_PACKET];
+    float l_cy[CLVIS_PACKET], l_u[CLVIS_PACKET], l_v[CLVIS_PACKET], l_w[CLVIS_PACKET];
+    int l_zero[CLVIS_PACKET];
+    vstore16(ax, 0, l_ax); vstore16(ay, 0, l_ay); vstore16(bx, 0, l_bx);
+    vstore16(by, 0, l_by); vstore16(cx, 0, l_cx); vstore16(cy, 0, l_cy);
+    vstore16(r.u, 0, l_u); vstore16(r.v, 0, l_v); vstore16(r.w, 0, l_w);
+    vstore16(zero, 0, l_zero);
+    for (int l = 0; l < CLVIS_PACKET; ++l)
+        if (l_zero[l]) clvis_exact_edges(&l_u[l], &l_v[l], &l_w[l], l_ax[l], l_ay[l], l_bx[l], l_by[l], l_cx[l], l_cy[l]);
+    r.u = vload16(0, l_u);
+    r.v = vload16(0, l_v);
+    r.w = vload16(0, l_w);
+    return r;
+}
+
+/* clvis_ray_edges_of on every lane: the shear, the edge functions (with the exact recompute on
+   the lanes where one rounded to zero: one OR of the lanes decides), det and tz. */
 static packet_edges packet_edges_of(const packet* p, lanes_f akx, lanes_f aky, lanes_f akz, lanes_f bkx, lanes_f bky,
                                     lanes_f bkz, lanes_f ckx, lanes_f cky, lanes_f ckz)
 {
@@ -30,21 +50,7 @@ static packet_edges packet_edges_of(const packet* p, lanes_f akx, lanes_f aky, l
     r.v = ax * cy - ay * cx;
     r.w = bx * ay - by * ax;
     lanes_i zero = (r.u == 0.0f) | (r.v == 0.0f) | (r.w == 0.0f);
-    if (or_lanes(zero)) { /* rare: lane by lane, the scalar code's exact fallback */
-        float l_ax[CLVIS_PACKET], l_ay[CLVIS_PACKET], l_bx[CLVIS_PACKET], l_by[CLVIS_PACKET], l_cx[CLVIS_PACKET];
-        float l_cy[CLVIS_PACKET], l_u[CLVIS_PACKET], l_v[CLVIS_PACKET], l_w[CLVIS_PACKET];
-        int l_zero[CLVIS_PACKET];
-        vstore16(ax, 0, l_ax); vstore16(ay, 0, l_ay); vstore16(bx, 0, l_bx);
-        vstore16(by, 0, l_by); vstore16(cx, 0, l_cx); vstore16(cy, 0, l_cy);
-        vstore16(r.u, 0, l_u); vstore16(r.v, 0, l_v); vstore16(r.w, 0, l_w);
-        vstore16(zero, 0, l_zero);
-        for (int l = 0; l < CLVIS_PACKET; ++l)
-            if (l_zero[l])
-                clvis_exact_edges(&l_u[l], &l_v[l], &l_w[l], l_ax[l], l_ay[l], l_bx[l], l_by[l], l_cx[l], l_cy[l]);
-        r.u = vload16(0, l_u);
-        r.v = vload16(0, l_v);
-        r.w = vload16(0, l_w);
-    }
+    if (or_lanes(zero)) r = packet_exact_edges(r, zero, ax, ay, bx, by, cx, cy);
     r.det = r.u + r.v + r.w;
     r.tz = r.u * (p->sz * akz) + r.v * (p->sz * bkz) + r.w * (p->sz * ckz);
     return r;
