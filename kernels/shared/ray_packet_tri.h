@@ -72,25 +72,25 @@ static void packet_test_triangle(const packet* p, const float* vert, uint tri_id
     lanes_f akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz;
     if (p->common_origin) {
         /* vertex minus origin once for all lanes: the same subtraction, done in scalar */
-        akx = (lanes_f)(pick(vert[0], vert[1], vert[2], p->ukx) - p->uox);
-        aky = (lanes_f)(pick(vert[0], vert[1], vert[2], p->uky) - p->uoy);
-        akz = (lanes_f)(pick(vert[0], vert[1], vert[2], p->ukz) - p->uoz);
-        bkx = (lanes_f)(pick(vert[3], vert[4], vert[5], p->ukx) - p->uox);
-        bky = (lanes_f)(pick(vert[3], vert[4], vert[5], p->uky) - p->uoy);
-        bkz = (lanes_f)(pick(vert[3], vert[4], vert[5], p->ukz) - p->uoz);
-        ckx = (lanes_f)(pick(vert[6], vert[7], vert[8], p->ukx) - p->uox);
-        cky = (lanes_f)(pick(vert[6], vert[7], vert[8], p->uky) - p->uoy);
-        ckz = (lanes_f)(pick(vert[6], vert[7], vert[8], p->ukz) - p->uoz);
+        akx = (lanes_f)(vert[p->ukx] - p->uox);
+        aky = (lanes_f)(vert[p->uky] - p->uoy);
+        akz = (lanes_f)(vert[p->ukz] - p->uoz);
+        bkx = (lanes_f)(vert[3 + p->ukx] - p->uox);
+        bky = (lanes_f)(vert[3 + p->uky] - p->uoy);
+        bkz = (lanes_f)(vert[3 + p->ukz] - p->uoz);
+        ckx = (lanes_f)(vert[6 + p->ukx] - p->uox);
+        cky = (lanes_f)(vert[6 + p->uky] - p->uoy);
+        ckz = (lanes_f)(vert[6 + p->ukz] - p->uoz);
     } else if (p->uniform) {
-        akx = (lanes_f)(pick(vert[0], vert[1], vert[2], p->ukx)) - p->px;
-        aky = (lanes_f)(pick(vert[0], vert[1], vert[2], p->uky)) - p->py;
-        akz = (lanes_f)(pick(vert[0], vert[1], vert[2], p->ukz)) - p->pz;
-        bkx = (lanes_f)(pick(vert[3], vert[4], vert[5], p->ukx)) - p->px;
-        bky = (lanes_f)(pick(vert[3], vert[4], vert[5], p->uky)) - p->py;
-        bkz = (lanes_f)(pick(vert[3], vert[4], vert[5], p->ukz)) - p->pz;
-        ckx = (lanes_f)(pick(vert[6], vert[7], vert[8], p->ukx)) - p->px;
-        cky = (lanes_f)(pick(vert[6], vert[7], vert[8], p->uky)) - p->py;
-        ckz = (lanes_f)(pick(vert[6], vert[7], vert[8], p->ukz)) - p->pz;
+        akx = (lanes_f)(vert[p->ukx]) - p->px;
+        aky = (lanes_f)(vert[p->uky]) - p->py;
+        akz = (lanes_f)(vert[p->ukz]) - p->pz;
+        bkx = (lanes_f)(vert[3 + p->ukx]) - p->px;
+        bky = (lanes_f)(vert[3 + p->uky]) - p->py;
+        bkz = (lanes_f)(vert[3 + p->ukz]) - p->pz;
+        ckx = (lanes_f)(vert[6 + p->ukx]) - p->px;
+        cky = (lanes_f)(vert[6 + p->uky]) - p->py;
+        ckz = (lanes_f)(vert[6 + p->ukz]) - p->pz;
     } else {
         akx = permuted(vert[0], vert[1], vert[2], p->kx0, p->kx1) - p->px;
         aky = permuted(vert[0], vert[1], vert[2], p->ky0, p->ky1) - p->py;
