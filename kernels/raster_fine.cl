@@ -45,18 +45,22 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
         int ya = max(t->y0, py0), yb = min(t->y1, py1);
         int xa = max(t->x0, px0), xb = min(t->x1, px1);
         if (ya > yb || xa > xb) continue;
-        long e0 = t->e0[0], e1 = t->e0[1], e2 = t->e0[2];
         long ex0 = t->ex[0], ex1 = t->ex[1], ex2 = t->ex[2];
         long ey0 = t->ey[0], ey1 = t->ey[1], ey2 = t->ey[2];
         float wc = t->wc, w0 = t->w[0], w1 = t->w[1], w2 = t->w[2];
         uint id = t->id;
         int s0 = (xa - px0) >> 3, s1 = (xb - px0) >> 3;
-        for (int j = ya; j <= yb; ++j) {
-            for (int s = s0; s <= s1; ++s) {
-                int i0 = px0 + 8 * s;
-                ulong8 key = clvis_raster_span8(e0 + (long)i0 * ex0 + (long)j * ey0, e1 + (long)i0 * ex1 + (long)j * ey1,
-                                                e2 + (long)i0 * ex2 + (long)j * ey2, ex0, ex1, ex2, wc, w0, w1, w2, id,
-                                                min(8, px1 - i0 + 1), cam.ortho, cam.near_d, cam.far_d);
+        /* Edge values at the first pixel of span s0 on row ya, stepped a row (ey) or a span (8 ex)
+           at a time: the same integers as e0 + i ex + j ey at every pixel evaluated. */
+        int i0 = px0 + 8 * s0;
+        long r0 = t->e0[0] + (long)i0 * ex0 + (long)ya * ey0;
+        long r1 = t->e0[1] + (long)i0 * ex1 + (long)ya * ey1;
+        long r2 = t->e0[2] + (long)i0 * ex2 + (long)ya * ey2;
+        for (int j = ya; j <= yb; ++j, r0 += ey0, r1 += ey1, r2 += ey2) {
+            long q0 = r0, q1 = r1, q2 = r2;
+            for (int s = s0; s <= s1; ++s, q0 += 8 * ex0, q1 += 8 * ex1, q2 += 8 * ex2) {
+                ulong8 key = clvis_raster_span8(q0, q1, q2, ex0, ex1, ex2, wc, w0, w1, w2, id,
+                                                min(8, px1 - (px0 + 8 * s) + 1), cam.ortho, cam.near_d, cam.far_d);
                 best[j - py0][s] = min(best[j - py0][s], key);
             }
         }
