@@ -2,11 +2,12 @@
    work-item owns a square of up to CLVIS_FINE_SUB pixels a side inside one tile, walks the tile's
    bin (or a `chunk` of it from `first`: the host splits long bins over launches for devices that
    cap loops; a square whose bin ran past the bins' `capacity` writes nothing, the host redraws
-   the frame with larger bins), evaluates only the 8-pixel row spans each triangle's box touches
-   (clvis_raster_span8), keeps the nearest keys in private memory, then stores them: merged with
-   what is there when `merge` (the small triangles raster_setup.cl drew with atomics, or an
-   earlier chunk), or as they are, background included (tile ownership's first launch: every key
-   of the buffer written once, by its owner, with no clear and no atomics). */
+   the frame with larger bins), skips triangles wholly behind the keys it holds, evaluates only the
+   8-pixel row spans each triangle's box touches (clvis_raster_span8), keeps the nearest keys in
+   private memory, then stores them: merged with what is there when `merge` (the small triangles
+   raster_setup.cl drew with atomics, or an earlier chunk), or as they are, background included
+   (tile ownership's first launch: every key of the buffer written once, by its owner, with no
+   clear and no atomics). */
 #include "shared/raster.h"
 
 __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const uint* entries,
@@ -40,11 +41,19 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
     for (int r = 0; r < CLVIS_FINE_SUB; ++r)
         for (int s = 0; s < CLVIS_FINE_SPANS; ++s) best[r][s] = (ulong8)(CLVIS_BACKGROUND_KEY);
 
+    /* Occlusion: keys only decrease, so `bound`, the largest key of the square when it was last
+       taken (the background until then), bounds every key from above; a triangle whose nearest
+       possible key (clvis_raster_tri::dnear, its id) exceeds it changes none and is skipped. Taking
+       it costs about a span's evaluation per span of the square: it is retaken once the square's
+       worth of spans has been evaluated since. Squares the image's edge cuts keep background
+       keys in their unused rows and lanes, and skip nothing. */
+    ulong bound = CLVIS_BACKGROUND_KEY;
+    int evaluated = 0;
     for (uint k = begin; k < end; ++k) {
         __global const clvis_raster_tri* t = &tris[entries[k]];
         int ya = max(t->y0, py0), yb = min(t->y1, py1);
         int xa = max(t->x0, px0), xb = min(t->x1, px1);
-        if (ya > yb || xa > xb) continue;
+        if (ya > yb || xa > xb || clvis_make_key(t->dnear, t->id) > bound) continue;
         long ex0 = t->ex[0], ex1 = t->ex[1], ex2 = t->ex[2];
         long ey0 = t->ey[0], ey1 = t->ey[1], ey2 = t->ey[2];
         float wc = t->wc, w0 = t->w[0], w1 = t->w[1], w2 = t->w[2];
@@ -63,6 +72,16 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
                                                 min(8, px1 - (px0 + 8 * s) + 1), cam.ortho, cam.near_d, cam.far_d);
                 best[j - py0][s] = min(best[j - py0][s], key);
             }
+        }
+        evaluated += (yb - ya + 1) * (s1 - s0 + 1);
+        if (evaluated >= CLVIS_FINE_SUB * CLVIS_FINE_SPANS) {
+            const ulong8* b = &best[0][0];
+            ulong8 m = b[0];
+            for (int q = 1; q < CLVIS_FINE_SUB * CLVIS_FINE_SPANS; ++q) m = max(m, b[q]);
+            ulong4 m4 = max(m.lo, m.hi);
+            ulong2 m2 = max(m4.lo, m4.hi);
+            bound = max(m2.lo, m2.hi);
+            evaluated = 0;
         }
     }
 

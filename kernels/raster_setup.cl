@@ -85,6 +85,7 @@ static void emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_ra
         return;
     }
 #endif
+    clvis_raster_set_nearest(a, b, c, out.cam.ortho, &t); /* raster_fine.cl's occlusion test */
     list_triangle(&t, out);
 }
 

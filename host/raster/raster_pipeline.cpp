@@ -146,7 +146,7 @@ struct RasterPipeline::Impl {
 
     /// Bin entries per launch of raster_fine.cl that keep its loops within half the device's
     /// limit (half: a compiler may add passes that the source does not show). On Mesa 22.3's
-    /// llvmpipe (65535) that is 494 entries; 800 still drew right there, 1000 did not.
+    /// llvmpipe (65535) that is 330 entries for raster_fine.
     void plan_fine_chunks()
     {
         loop_limit = device.loop_limit();

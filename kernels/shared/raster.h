@@ -55,7 +55,7 @@ typedef struct clvis_raster_tri {
     float wc;                  /* the top-left bias given back: sum of w[k] over biased edges */
     clvis_u32 id;              /* triangle id */
     clvis_i32 x0, y0, x1, y1;  /* pixels whose centres it may cover, inclusive, inside the image */
-    clvis_i32 pad;
+    float dnear;               /* no sample of it is nearer (view depth; 0: no bound known) */
 } clvis_raster_tri;
 
 /* The guard band of a camera and image on the screen (screen units: s.x = x / d, or x itself when
@@ -355,8 +355,30 @@ static inline int clvis_raster_setup(clvis_raster_vertex a, clvis_raster_vertex 
     t->w[2] = v2.v / fa;
     t->wc = (tl0 ? 0.0f : t->w[0]) + (tl1 ? 0.0f : t->w[1]) + (tl2 ? 0.0f : t->w[2]);
     t->id = id;
-    t->pad = 0;
+    t->dnear = 0.0f; /* clvis_raster_set_nearest gives the bound */
     return 1;
+}
+
+/* Sets t->dnear for the triangle of vertices a, b, c that clvis_raster_setup set up: the depth
+   attribute at a sample is a convex combination of the vertices' (1/d, or d when orthographic), so
+   no depth lies nearer than the nearest vertex's, less the float rounding of clvis_raster_depth
+   (a few ulps, far below the 2^-10 taken off). Weights too small to be normal floats after a
+   product round by more than that: such a triangle gets no bound (0). */
+static inline void clvis_raster_set_nearest(clvis_raster_vertex a, clvis_raster_vertex b, clvis_raster_vertex c,
+                                            int ortho, clvis_raster_tri* t)
+{
+    const float tiny = 7.8886091e-31f; /* 2^-100 */
+    if (!(t->w[0] >= tiny && t->w[1] >= tiny && t->w[2] >= tiny)) return;
+    float d;
+    if (ortho) {
+        d = a.v < b.v ? a.v : b.v;
+        d = d < c.v ? d : c.v;
+    } else {
+        float v = a.v > b.v ? a.v : b.v;
+        d = 1.0f / (v > c.v ? v : c.v);
+    }
+    d *= 0.9990234375f; /* 1 - 2^-10 */
+    t->dnear = d > 0.0f ? d : 0.0f;
 }
 
 /* The depth attribute at a covered sample from its three (biased) edge values: the barycentric
@@ -441,10 +463,10 @@ static inline int clvis_raster_setup_region(clvis_raster_vertex v0, clvis_raster
 #define CLVIS_FINE_SPANS (CLVIS_FINE_SUB / 8) /* 8-pixel spans per row of the square */
 /* Passes through loop headers of one work-item of raster_fine.cl, at most (a loop of n iterations
    counts n + 1, the pass that leaves it included, as Mesa's llvmpipe counts them): per bin entry
-   (the entry; each row; each span), and for the rest (clearing, then storing, the square's spans,
+   (the entry; each row; each span; the occlusion bound's pass over the square's spans), and for the rest (clearing, then storing, the square's spans,
    a span's lanes stored one by one: a partial span, or strided samples). The host splits the bins into launches that stay within half a
    device's loop limit (Device::Impl::loop_limit). */
-#define CLVIS_FINE_TRIPS_PER_ENTRY (2 + CLVIS_FINE_SUB * (2 + CLVIS_FINE_SPANS))
+#define CLVIS_FINE_TRIPS_PER_ENTRY (2 + CLVIS_FINE_SUB * (2 + CLVIS_FINE_SPANS) + CLVIS_FINE_SUB * CLVIS_FINE_SPANS)
 #define CLVIS_FINE_TRIPS_FIXED (2 * (1 + CLVIS_FINE_SUB * (2 + CLVIS_FINE_SPANS)) + 9 * CLVIS_FINE_SUB * CLVIS_FINE_SPANS + 9)
 /* The same for raster_fine_pixel, whose batches hold at least one entry: per entry (the batch
    loop's pass, the triangle loop's pass and its exit), and the rest (the batch loop's exit). */
