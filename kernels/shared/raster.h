@@ -362,22 +362,17 @@ static inline int clvis_raster_setup(clvis_raster_vertex a, clvis_raster_vertex 
 /* Sets t->dnear for the triangle of vertices a, b, c that clvis_raster_setup set up: the depth
    attribute at a sample is a convex combination of the vertices' (1/d, or d when orthographic), so
    no depth lies nearer than the nearest vertex's, less the float rounding of clvis_raster_depth
-   (a few ulps, far below the 2^-10 taken off). Weights too small to be normal floats after a
-   product round by more than that: such a triangle gets no bound (0). */
+   (about ten ulps, far below the 2^-10 taken off). Weights too small to stay normal floats in its
+   products, or attributes large enough to overflow its sums, could round by more: such a triangle
+   gets no bound (0). */
 static inline void clvis_raster_set_nearest(clvis_raster_vertex a, clvis_raster_vertex b, clvis_raster_vertex c,
                                             int ortho, clvis_raster_tri* t)
 {
-    const float tiny = 7.8886091e-31f; /* 2^-100 */
-    if (!(t->w[0] >= tiny && t->w[1] >= tiny && t->w[2] >= tiny)) return;
-    float d;
-    if (ortho) {
-        d = a.v < b.v ? a.v : b.v;
-        d = d < c.v ? d : c.v;
-    } else {
-        float v = a.v > b.v ? a.v : b.v;
-        d = 1.0f / (v > c.v ? v : c.v);
-    }
-    d *= 0.9990234375f; /* 1 - 2^-10 */
+    float lo = a.v < b.v ? a.v : b.v, hi = a.v > b.v ? a.v : b.v;
+    lo = lo < c.v ? lo : c.v;
+    hi = hi > c.v ? hi : c.v;
+    if (!(t->w[0] >= 0x1p-100f && t->w[1] >= 0x1p-100f && t->w[2] >= 0x1p-100f && hi <= 0x1p100f)) return;
+    float d = (ortho ? lo : 1.0f / hi) * 0x1.ff8p-1f; /* 1 - 2^-10 */
     t->dnear = d > 0.0f ? d : 0.0f;
 }
 
