@@ -75,9 +75,9 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
         }
         evaluated += (yb - ya + 1) * (s1 - s0 + 1);
         if (evaluated >= CLVIS_FINE_SUB * CLVIS_FINE_SPANS) {
-            const ulong8* b = &best[0][0];
-            ulong8 m = b[0];
-            for (int q = 1; q < CLVIS_FINE_SUB * CLVIS_FINE_SPANS; ++q) m = max(m, b[q]);
+            ulong8 m = best[0][0];
+            for (int q = 1; q < CLVIS_FINE_SUB * CLVIS_FINE_SPANS; ++q)
+                m = max(m, best[q / CLVIS_FINE_SPANS][q % CLVIS_FINE_SPANS]);
             ulong4 m4 = max(m.lo, m.hi);
             ulong2 m2 = max(m4.lo, m4.hi);
             bound = max(m2.lo, m2.hi);
