@@ -251,6 +251,10 @@ typedef struct walk_stack {
 #endif
 } walk_stack;
 
+/* The child that a visit's 4-bit hit mask names when one bit is set; 4: none, 5: more than one. (A
+   table: a bit test such as x & (x - 1) becomes llvm.ctpop, which Oclgrind 21.10 cannot run.) */
+__constant uchar one_child[16] = {4, 0, 1, 5, 2, 5, 5, 5, 3, 5, 5, 5, 5, 5, 5, 5};
+
 /* Visits w->node, then pops entries (testing leaves) until the next node to visit; w->node is
    CLVIS_BACKGROUND_ID once the ray is answered. */
 static void walk_step(__global const clvis_bvh4_node* nodes, __global const clvis_bvh_tri* tris,
@@ -271,14 +275,14 @@ static void walk_step(__global const clvis_bvh4_node* nodes, __global const clvi
     /* The nearest child the ray meets (closest; the first otherwise) is visited next without a
        trip through the stack; the others are pushed far to near (closest) as (child, count). Most
        visits meet at most one child: the hit mask's bits (1, 2, 4, 8) name it with no loop. */
-    int4 bits4 = hit4 & (int4)(1, 2, 4, 8);
-    uint mask = (uint)(bits4.x | bits4.y | bits4.z | bits4.w);
+    int h[4];
+    vstore4(hit4, 0, h);
+    uint mask = (uint)((h[0] & 1) | (h[1] & 2) | (h[2] & 4) | (h[3] & 8));
+    uint one = one_child[mask];
     int next = -1;
-    if ((mask & (mask - 1u)) == 0u) {
-        if (mask != 0u) next = (int)((mask >> 1) - (mask >> 3)); /* 1, 2, 4, 8 -> 0, 1, 2, 3 */
-    } else {
-        int h[4];
-        vstore4(hit4, 0, h);
+    if (one < 4u) {
+        next = (int)one;
+    } else if (one > 4u) {
         float next_e = 0.0f;
         for (uint k = 0; k < 4; ++k) {
             if (!h[k]) continue;
