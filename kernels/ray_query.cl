@@ -282,10 +282,12 @@ static void walk_step(__global const clvis_bvh4_node* nodes, __global const clvi
     int next = -1;
     if (one < 4u) {
         next = (int)one;
+        clvis_prefetch_child(nodes, tris, n, next);
     } else if (one > 4u) {
         float next_e = 0.0f;
         for (uint k = 0; k < 4; ++k) {
             if (!h[k]) continue;
+            clvis_prefetch_child(nodes, tris, n, (int)k);
             if (next < 0) {
                 next = (int)k;
                 next_e = e[k];
@@ -301,7 +303,6 @@ static void walk_step(__global const clvis_bvh4_node* nodes, __global const clvi
                 next_e = e[k];
             }
 #endif
-            clvis_prefetch_child(nodes, tris, n, (int)push);
             uint i = sp++;
 #if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
             for (; i > first && st->enter[i - 1] < push_e; --i) {
