@@ -202,8 +202,7 @@ static int4 hits_boxes(__global const clvis_bvh4_node* n, __global const clvis_i
 /* CLVIS_PREFETCH (PoCL's CPU device, set by host/ray/ray_query.cpp): every child the ray meets
    (the one visited next and those pushed) is fetched into the cache as the node is visited, so
    that the (up to four) misses of one node's children overlap instead of each stalling the walk
-   when it is reached. A hint only: the walk
-   reads the same values with or without it. */
+   when it is reached. A hint only: the walk reads the same values with or without it. */
 #ifdef CLVIS_PREFETCH
 #define CLVIS_PREFETCH_LINE(p) __builtin_prefetch((const void*)(ulong)(p))
 #endif
