@@ -150,13 +150,12 @@ static void world_boxes(__global const clvis_bvh4_node* n, __global const clvis_
 }
 #endif
 
-/* clvis_ray_hits_box on the four children of a node at once: the same operations lane by lane
-   (far_s: its far_t already scaled by CLVIS_IZE_SCALE).
+/* clvis_ray_hits_box on the four children of a node at once: the same operations lane by lane.
    The flat tree reads each axis' near and far planes straight from the node (lo_x, hi_x, ...
    follow each other: the plane a ray meets first is the row after lo when its direction is
    negative), so no select runs per node. */
 static int4 hits_boxes(__global const clvis_bvh4_node* n, __global const clvis_instance* xi, clvis_box_ray br,
-                       float near_t, float far_s, float4* entry)
+                       float near_t, float far_t, float4* entry)
 {
 #ifdef CLVIS_INSTANCES
     float4 lox = vload4(0, n->lo_x), hix = vload4(0, n->hi_x);
@@ -196,7 +195,7 @@ static int4 hits_boxes(__global const clvis_bvh4_node* n, __global const clvis_i
     t1 = select(t1, fz, fz < t1);
     t1 = t1 * CLVIS_IZE_SCALE;
     *entry = t0;
-    return (t0 <= t1) & (t0 <= (float4)(far_s));
+    return (t0 <= t1) & (t0 <= (float4)(far_t * CLVIS_IZE_SCALE));
 }
 
 /* CLVIS_PREFETCH (PoCL's CPU device, set by host/ray/ray_query.cpp): every child the ray meets
@@ -232,7 +231,6 @@ typedef struct walker {
     clvis_ray_shear s;
     clvis_box_ray br;
     answer a;
-    float far;  /* query_far scaled by CLVIS_IZE_SCALE: boxes and entries beyond it hold no answer */
     uint ray;   /* its index in the batch */
     uint node;  /* the node it visits next; CLVIS_BACKGROUND_ID once answered */
     uint sp;    /* stack entries */
@@ -251,10 +249,6 @@ typedef struct walk_stack {
 #endif
 } walk_stack;
 
-/* The child that a visit's 4-bit hit mask names when one bit is set; 4: none, 5: more than one. (A
-   table: a bit test such as x & (x - 1) becomes llvm.ctpop, which Oclgrind 21.10 cannot run.) */
-__constant uchar one_child[16] = {4, 0, 1, 5, 2, 5, 5, 5, 3, 5, 5, 5, 5, 5, 5, 5};
-
 /* Visits w->node, then pops entries (testing leaves) until the next node to visit; w->node is
    CLVIS_BACKGROUND_ID once the ray is answered. */
 static void walk_step(__global const clvis_bvh4_node* nodes, __global const clvis_bvh_tri* tris,
@@ -268,72 +262,65 @@ static void walk_step(__global const clvis_bvh4_node* nodes, __global const clvi
     __global const clvis_instance* xi = 0;
 #endif
     float4 e4;
-    int4 hit4 = hits_boxes(n, xi, w->br, w->r.tmin, w->far, &e4);
+    int4 hit4 = hits_boxes(n, xi, w->br, w->r.tmin, query_far(w->r, &w->a), &e4);
     float e[4];
+    int h[4];
     vstore4(e4, 0, e);
+    vstore4(hit4, 0, h);
     uint first = w->sp, sp = w->sp;
     /* The nearest child the ray meets (closest; the first otherwise) is visited next without a
-       trip through the stack; the others are pushed far to near (closest) as (child, count). Most
-       visits meet at most one child: the hit mask's bits (1, 2, 4, 8) name it with no loop. */
-    int h[4];
-    vstore4(hit4, 0, h);
-    uint mask = (uint)((h[0] & 1) | (h[1] & 2) | (h[2] & 4) | (h[3] & 8));
-    uint one = one_child[mask];
+       trip through the stack; the others are pushed far to near (closest) as (child, count). */
     int next = -1;
-    if (one < 4u) {
-        next = (int)one;
-        clvis_prefetch_child(nodes, tris, n, next);
-    } else if (one > 4u) {
-        float next_e = 0.0f;
-        for (uint k = 0; k < 4; ++k) {
-            if (!h[k]) continue;
-            clvis_prefetch_child(nodes, tris, n, (int)k);
-            if (next < 0) {
-                next = (int)k;
-                next_e = e[k];
-                continue;
-            }
-            uint push = k;
-            float push_e = e[k];
-#if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
-            if (push_e < next_e) {
-                push = (uint)next;
-                push_e = next_e;
-                next = (int)k;
-                next_e = e[k];
-            }
-#endif
-            uint i = sp++;
-#if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
-            for (; i > first && st->enter[i - 1] < push_e; --i) {
-                st->ref[i] = st->ref[i - 1];
-                st->count[i] = st->count[i - 1];
-                st->enter[i] = st->enter[i - 1];
-            }
-#endif
-            st->ref[i] = n->child[push];
-            st->count[i] = n->count[push];
-            st->enter[i] = push_e;
+    float next_e = 0.0f;
+    /* (a loop over the set bits of a hit mask instead, with clz, crashes Oclgrind 21.10's
+       uninitialised-value checker, and was no faster on PoCL) */
+    for (uint k = 0; k < 4; ++k) {
+        if (!h[k]) continue;
+        clvis_prefetch_child(nodes, tris, n, (int)k);
+        if (next < 0) {
+            next = (int)k;
+            next_e = e[k];
+            continue;
         }
-#ifdef CLVIS_INSTANCES
-        for (uint j = first; j < sp; ++j) st->inst[j] = w->inst; /* all of this node */
+        uint push = k;
+        float push_e = e[k];
+#if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
+        if (push_e < next_e) {
+            push = (uint)next;
+            push_e = next_e;
+            next = (int)k;
+            next_e = e[k];
+        }
 #endif
+        uint i = sp++;
+#if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
+        for (; i > first && st->enter[i - 1] < push_e; --i) {
+            st->ref[i] = st->ref[i - 1];
+            st->count[i] = st->count[i - 1];
+            st->enter[i] = st->enter[i - 1];
+        }
+#endif
+        st->ref[i] = n->child[push];
+        st->count[i] = n->count[push];
+        st->enter[i] = push_e;
     }
+#ifdef CLVIS_INSTANCES
+    for (uint j = first; j < sp; ++j) st->inst[j] = w->inst; /* all of this node */
+#endif
     w->node = CLVIS_BACKGROUND_ID;
     /* the entry at hand: child `ref` (a node when cnt is 0, else a leaf of cnt), met at `at` */
     uint ref = 0, cnt = 0;
-    float at = 0.0f;
+    float at = next_e;
     if (next >= 0) {
         ref = n->child[next];
         cnt = n->count[next];
-        at = e[next];
     }
     for (;;) {
         if (next < 0) {
             if (sp == 0) break;
             --sp;
             at = st->enter[sp];
-            if (at > w->far) continue;
+            if (at > query_far(w->r, &w->a) * CLVIS_IZE_SCALE) continue;
             ref = st->ref[sp];
             cnt = st->count[sp];
 #ifdef CLVIS_INSTANCES
@@ -362,9 +349,6 @@ static void walk_step(__global const clvis_bvh4_node* nodes, __global const clvi
         }
 #endif
         if (leaf(tris, ref, cnt, xi, w->s, w->r, &w->a)) break; /* answered: node stays none */
-#if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
-        w->far = query_far(w->r, &w->a) * CLVIS_IZE_SCALE;
-#endif
     }
     w->sp = sp;
 }
@@ -375,7 +359,6 @@ static void walk_start(__global const float* rays, int layout, ulong stride, ulo
 {
     w->r = load_ray(rays, layout, stride, offset + i);
     w->a = start_answer(w->r);
-    w->far = query_far(w->r, &w->a) * CLVIS_IZE_SCALE;
     w->ray = i;
     w->sp = 0;
 #ifdef CLVIS_INSTANCES
