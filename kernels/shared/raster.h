@@ -458,10 +458,12 @@ static inline int clvis_raster_setup_region(clvis_raster_vertex v0, clvis_raster
 #define CLVIS_FINE_SPANS (CLVIS_FINE_SUB / 8) /* 8-pixel spans per row of the square */
 /* Passes through loop headers of one work-item of raster_fine.cl, at most (a loop of n iterations
    counts n + 1, the pass that leaves it included, as Mesa's llvmpipe counts them): per bin entry
-   (the entry; each row; each span; the occlusion bound's pass over the square's spans), and for the rest (clearing, then storing, the square's spans,
-   a span's lanes stored one by one: a partial span, or strided samples). The host splits the bins into launches that stay within half a
+   (the entry; each row; each span; the occlusion bound's pass over the square's spans), and for
+   the rest (clearing, then storing, the square's spans, a span's lanes stored one by one: a partial
+   span, or strided samples). The host splits the bins into launches that stay within half a
    device's loop limit (Device::Impl::loop_limit). */
-#define CLVIS_FINE_TRIPS_PER_ENTRY (2 + CLVIS_FINE_SUB * (2 + CLVIS_FINE_SPANS) + CLVIS_FINE_SUB * CLVIS_FINE_SPANS)
+#define CLVIS_FINE_TRIPS_PER_ENTRY \
+    (2 + CLVIS_FINE_SUB * (2 + CLVIS_FINE_SPANS) + CLVIS_FINE_SUB * CLVIS_FINE_SPANS)
 #define CLVIS_FINE_TRIPS_FIXED (2 * (1 + CLVIS_FINE_SUB * (2 + CLVIS_FINE_SPANS)) + 9 * CLVIS_FINE_SUB * CLVIS_FINE_SPANS + 9)
 /* The same for raster_fine_pixel, whose batches hold at least one entry: per entry (the batch
    loop's pass, the triangle loop's pass and its exit), and the rest (the batch loop's exit). */
