@@ -37,6 +37,16 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
         return;
     }
 
+#ifdef CLVIS_PREFETCH
+    /* The keys this square merges with at the end are fetched into the cache now (PoCL's CPU
+       device, Device::Impl::cpu_hints), their misses overlapping the bin's walk. A hint only. */
+    if (merge)
+        for (int j = py0; j <= py1; ++j) {
+            __global const ulong* row = keys + (((size_t)j * (size_t)region.width + (size_t)px0) << n_log2);
+            __builtin_prefetch((const void*)(ulong)row);
+            __builtin_prefetch((const void*)(ulong)(row + ((size_t)(px1 - px0) << n_log2)));
+        }
+#endif
     ulong8 best[CLVIS_FINE_SUB][CLVIS_FINE_SPANS];
     for (int r = 0; r < CLVIS_FINE_SUB; ++r)
         for (int s = 0; s < CLVIS_FINE_SPANS; ++s) best[r][s] = (ulong8)(CLVIS_BACKGROUND_KEY);

@@ -35,6 +35,43 @@ static clvis_clip_vertex load_camera_vertex(clvis_camera_gpu cam, __global const
     return clvis_clip_vertex_of(cam, positions[o], positions[o + 1], positions[o + 2]);
 }
 
+#ifndef CLVIS_RASTER_OWNED
+/* CLVIS_PEEK (PoCL's CPU device, Device::Impl::cpu_hints; little-endian): draw_key first reads
+   the depth word (the key's high 32 bits) with a plain load and skips the atomic when the key there
+   is already nearer by depth. Keys only ever decrease within a frame, so a depth word below key's
+   stays below it; an equal depth takes the atomic (the id decides). A 32-bit load that no 64-bit
+   write can tear returns a depth stored there, the newest or an older, larger one: skipping stays
+   right. A locked compare-exchange serialises the CPU's memory accesses where a load does not, and
+   in a scene with depth complexity most samples are behind what an earlier triangle drew. The
+   read races with other work-items' atomics, which OpenCL leaves undefined and Oclgrind reports:
+   it is made only where the hardware's answer is known. */
+static void draw_key(volatile __global ulong* p, ulong key)
+{
+#ifdef CLVIS_PEEK
+    if (((volatile __global const uint*)p)[1] < (uint)(key >> 32)) return;
+#endif
+    atom_min(p, key);
+}
+
+/* CLVIS_PREFETCH (PoCL's CPU device, Device::Impl::cpu_hints): the rows of keys a small
+   triangle draws are fetched into the cache before its samples are computed, so that their misses
+   overlap instead of each stalling a draw_key in turn (a row's first and last key: at most two
+   lines). A hint only: the same keys are drawn with or without it. */
+static void prefetch_rows(const clvis_raster_tri* t, raster_setup_out out)
+{
+#ifdef CLVIS_PREFETCH
+    int n_log2 = out.cam.sample_log2;
+    size_t last = (size_t)(t->x1 - t->x0) << n_log2;
+    for (int j = t->y0; j <= t->y1; ++j) {
+        __global const ulong* row =
+            (__global const ulong*)out.keys + (((size_t)j * (size_t)out.region.width + (size_t)t->x0) << n_log2);
+        __builtin_prefetch((const void*)(ulong)row);
+        __builtin_prefetch((const void*)(ulong)(row + last));
+    }
+#endif
+}
+#endif
+
 /* Lists t for binning. The count is 64 bits kept in two 32-bit words (core atomics): a total
    past the capacity makes the host grow the list and run setup again. */
 static void list_triangle(const clvis_raster_tri* t, raster_setup_out out)
@@ -57,17 +94,19 @@ static void emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_ra
     int n_log2 = out.cam.sample_log2;
     size_t sample = (size_t)out.cam.sample;
 #ifndef CLVIS_RASTER_OWNED
+    int small = t.x1 - t.x0 < 8 && t.y1 - t.y0 < CLVIS_RASTER_SMALL_ROWS;
+    if (small) prefetch_rows(&t, out);
     if ((t.x1 - t.x0 + 1) * (t.y1 - t.y0 + 1) <= CLVIS_RASTER_SCALAR) {
         for (int j = t.y0; j <= t.y1; ++j) {
             for (int i = t.x0; i <= t.x1; ++i) {
                 ulong key = clvis_raster_sample(&t, i, j, out.cam.ortho, out.cam.near_d, out.cam.far_d);
                 if (key != CLVIS_BACKGROUND_KEY)
-                    atom_min(&out.keys[(((size_t)j * out.region.width + i) << n_log2) + sample], key);
+                    draw_key(&out.keys[(((size_t)j * out.region.width + i) << n_log2) + sample], key);
             }
         }
         return;
     }
-    if (t.x1 - t.x0 < 8 && t.y1 - t.y0 < CLVIS_RASTER_SMALL_ROWS) {
+    if (small) {
         long r0 = t.e0[0] + (long)t.x0 * t.ex[0] + (long)t.y0 * t.ey[0];
         long r1 = t.e0[1] + (long)t.x0 * t.ex[1] + (long)t.y0 * t.ey[1];
         long r2 = t.e0[2] + (long)t.x0 * t.ex[2] + (long)t.y0 * t.ey[2];
@@ -79,8 +118,24 @@ static void emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_ra
             vstore8(key, 0, lane);
             volatile __global ulong* row =
                 out.keys + (((size_t)j * (size_t)out.region.width + (size_t)t.x0) << n_log2) + sample;
+#ifdef CLVIS_PEEK
+            if (n_log2 == 0 && t.x0 + 8 <= out.region.width) {
+                /* draw_key's test for the row's 8 keys at once (its depth words compared): the
+                   lanes the triangle covers whose pixel is not already nearer take the atomic. */
+                ulong8 held = vload8(0, (__global const ulong*)row);
+                long8 take = (key != (ulong8)(CLVIS_BACKGROUND_KEY)) & ((key >> 32) <= (held >> 32));
+                long8 bit = take & (long8)(1, 2, 4, 8, 16, 32, 64, 128);
+                long4 b4 = bit.lo | bit.hi;
+                long2 b2 = b4.lo | b4.hi;
+                for (uint mask = (uint)(b2.lo | b2.hi); mask != 0u; mask &= mask - 1u) {
+                    int l = 31 - (int)clz(mask & (0u - mask));
+                    atom_min(&row[l], lane[l]);
+                }
+                continue;
+            }
+#endif
             for (int l = 0; l < 8; ++l)
-                if (lane[l] != CLVIS_BACKGROUND_KEY) atom_min(&row[(size_t)l << n_log2], lane[l]);
+                if (lane[l] != CLVIS_BACKGROUND_KEY) draw_key(&row[(size_t)l << n_log2], lane[l]);
         }
         return;
     }

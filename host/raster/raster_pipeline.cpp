@@ -458,7 +458,9 @@ RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& option
     Impl& m = *impl_;
     try {
         m.clear = make_clear_kernel(device);
-        cl::Program setup = device.program("raster_setup", m.owned ? "-DCLVIS_RASTER_OWNED" : "");
+        cl::Program setup = device.program("raster_setup", m.owned              ? "-DCLVIS_RASTER_OWNED"
+                                                           : device.cpu_hints() ? "-DCLVIS_PREFETCH=1 -DCLVIS_PEEK=1"
+                                                                                : "");
         m.vertices = cl::Kernel(setup, "raster_setup_vertices");
         m.setup = cl::Kernel(setup, "raster_setup");
         m.item_vertices = cl::Kernel(setup, "raster_setup_item_vertices");
@@ -468,7 +470,8 @@ RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& option
         m.bin_count = cl::Kernel(bin, "raster_bin_count");
         m.bin_scan = cl::Kernel(bin, "raster_bin_scan");
         m.bin_fill = cl::Kernel(bin, "raster_bin_fill");
-        m.fine = cl::Kernel(device.program("raster_fine"), m.pixel ? "raster_fine_pixel" : "raster_fine");
+        m.fine = cl::Kernel(device.program("raster_fine", device.cpu_hints() ? "-DCLVIS_PREFETCH=1" : ""),
+                            m.pixel ? "raster_fine_pixel" : "raster_fine");
         m.pick_groups();
         m.plan_fine_chunks();
         m.counters = m.make_buffer(3 * sizeof(cl_ulong));

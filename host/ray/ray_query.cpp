@@ -85,20 +85,6 @@ RayQuery::Impl::Impl(Renderer& renderer, const RayQueryOptions& o) : r(RendererA
     if (!options.brute) error_boundary("preparing the ray queries", [&] { return &r.ray_pipeline(true); });
 }
 
-namespace {
-
-/// Whether the walk prefetches the children it pushes (kernels/ray_query.cl, CLVIS_PREFETCH):
-/// on PoCL's CPU device, whose compiler (clang) turns __builtin_prefetch into the CPU's prefetch.
-/// Elsewhere the hint is left out (other compilers, Oclgrind's interpreter, GPUs).
-bool prefetches(const cl::Device& device)
-{
-    if (!(device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU)) return false;
-    std::string platform = cl::Platform(device.getInfo<CL_DEVICE_PLATFORM>()).getInfo<CL_PLATFORM_NAME>();
-    return platform.find("Portable Computing Language") != std::string::npos;
-}
-
-} // namespace
-
 cl::Kernel& RayQuery::Impl::kernel(RayQueryKind kind)
 {
     int entries = options.brute ? 1 : r.ray->stack_entries();
@@ -107,7 +93,7 @@ cl::Kernel& RayQuery::Impl::kernel(RayQueryKind kind)
     Built& b = built[int(kind)];
     if (b.stack != stack || b.two_level != two_level) {
         std::string defs = "-DCLVIS_QUERY=" + std::to_string(int(kind)) + " -DCLVIS_RAY_STACK=" + std::to_string(stack);
-        if (!options.brute && prefetches(r.dev().device)) defs += " -DCLVIS_PREFETCH=1";
+        if (!options.brute && r.dev().cpu_hints()) defs += " -DCLVIS_PREFETCH=1";
         if (two_level) defs += " -DCLVIS_INSTANCES=1";
         b.lanes = options.brute ? 1 : std::max(1, options.lanes);
         b.per_item = b.lanes > 1 ? std::size_t(items_per_lane * b.lanes) : 1;

@@ -59,6 +59,13 @@ struct Device::Impl {
     /// The standard build options plus `extra`.
     std::string build_options(const std::string& extra) const;
 
+    /// Whether kernels may use what PoCL's CPU device is known to do: its compiler (clang) turns
+    /// __builtin_prefetch into the CPU's prefetch (-DCLVIS_PREFETCH), and an aligned 32-bit load
+    /// that races with 64-bit atomics returns a value stored there, little-endian (-DCLVIS_PEEK,
+    /// kernels/raster_setup.cl). Elsewhere (other compilers, Oclgrind's interpreter, GPUs) the
+    /// kernels keep to what OpenCL defines.
+    bool cpu_hints() const;
+
     /// A new in-order queue with profiling on, or the wrapped queue.
     cl::CommandQueue make_queue();
 

@@ -404,6 +404,12 @@ std::string Device::Impl::build_options(const std::string& extra) const
     return options;
 }
 
+bool Device::Impl::cpu_hints() const
+{
+    return info.type == DeviceType::Cpu && info.platform.find("Portable Computing Language") != std::string::npos &&
+           device.getInfo<CL_DEVICE_ENDIAN_LITTLE>();
+}
+
 cl::Program Device::Impl::build_source(const std::string& name, const std::string& source, const std::string& extra)
 {
     std::string options = build_options(extra);
