@@ -198,25 +198,6 @@ static int4 hits_boxes(__global const clvis_bvh4_node* n, __global const clvis_i
     return (t0 <= t1) & (t0 <= (float4)(far_t * CLVIS_IZE_SCALE));
 }
 
-/* CLVIS_PREFETCH (PoCL's CPU device, set by host/ray/ray_query.cpp): every child the ray meets
-   (the one visited next and those pushed) is fetched into the cache as the node is visited, so
-   that the (up to four) misses of one node's children overlap instead of each stalling the walk
-   when it is reached. A hint only: the walk reads the same values with or without it. */
-#ifdef CLVIS_PREFETCH
-#define CLVIS_PREFETCH_LINE(p) __builtin_prefetch((const void*)(ulong)(p))
-#endif
-static void clvis_prefetch_child(__global const clvis_bvh4_node* nodes, __global const clvis_bvh_tri* tris,
-                                 __global const clvis_bvh4_node* n, int k)
-{
-#ifdef CLVIS_PREFETCH
-    /* a node's first two cache lines, or a leaf's first triangles (past the end: no fault) */
-    __global const char* p = n->count[k] == 0 ? (__global const char*)(nodes + n->child[k])
-                                              : (__global const char*)(tris + n->child[k]);
-    CLVIS_PREFETCH_LINE(p);
-    CLVIS_PREFETCH_LINE(p + 64);
-#endif
-}
-
 /* One ray's walk, advanced a node at a time (walk_step) so that a work-item can interleave the
    walks of CLVIS_QUERY_LANES rays: while one lane waits for the node it popped, the others' loads
    are in flight. Of the children that the ray meets, the nearest is visited next; the others are

@@ -119,6 +119,7 @@ static void walk_span(const packet* p, clvis_camera_gpu cam, __global const clvi
             uint order[4], hits = 0;
             for (int c = 0; c < 4; ++c)
                 if (bits & (1 << c)) clvis_insert_child(order, along, &hits, (uint)c, entry[c]);
+            for (uint i = 0; i < hits; ++i) clvis_prefetch_child(nodes, tris, nodes + node, (int)order[i]);
             for (uint i = hits; i > 1; --i, ++sp) stack_t[sp] = along[i - 1], stack[sp] = node << 2 | order[i - 1];
             if (hits > 0) nd = nodes + node, k = order[0];
             node = CLVIS_RAY_NONE;
@@ -197,6 +198,8 @@ static void trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int 
             }
             node = CLVIS_RAY_NONE;
             if (hits > 0) {
+                for (uint i = 0; i < hits && inst != CLVIS_INST_TOP; ++i) /* the top level's leaves: instances */
+                    clvis_prefetch_child(nodes, tris, nd, (int)order[i]);
                 for (uint i = hits - 1; i > 0; --i, ++sp)
                     stack_inst[sp] = inst, stack[sp] = (uint)(nd - nodes) << 2 | order[i];
                 uint k = order[0];

@@ -124,6 +124,7 @@ struct RayPipeline::Impl {
         if (stack == trace_stack) return;
         std::string define = coverage_define(options.coverage);
         std::string name = single ? "ray_trace_single" : "ray_trace";
+        if (!single && device.cpu_hints()) define += " -DCLVIS_PREFETCH=1";
         cl::Program program = device.program(name, "-DCLVIS_RAY_STACK=" + std::to_string(stack) +
                                                        (define.empty() ? "" : " " + define));
         trace = cl::Kernel(program, name.c_str());

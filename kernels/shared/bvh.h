@@ -47,4 +47,25 @@ static inline void clvis_insert_child(clvis_u32 order[4], float along[4], clvis_
     along[i] = d;
 }
 
+#ifdef __OPENCL_C_VERSION__
+/* CLVIS_PREFETCH (PoCL's CPU device, Device::Impl::cpu_hints): the ray kernels fetch every child
+   a walk meets (the one visited next and those pushed) into the cache as the node is visited, so
+   that the (up to four) misses of one node's children overlap instead of each stalling the walk
+   when it is reached. A hint only: the walk reads the same values with or without it. */
+#ifdef CLVIS_PREFETCH
+#define CLVIS_PREFETCH_LINE(p) __builtin_prefetch((const void*)(ulong)(p))
+#endif
+static inline void clvis_prefetch_child(__global const clvis_bvh4_node* nodes, __global const clvis_bvh_tri* tris,
+                                        __global const clvis_bvh4_node* n, int k)
+{
+#ifdef CLVIS_PREFETCH
+    /* a node's first two cache lines, or a leaf's first triangles (past the end: no fault) */
+    __global const char* p = n->count[k] == 0 ? (__global const char*)(nodes + n->child[k])
+                                              : (__global const char*)(tris + n->child[k]);
+    CLVIS_PREFETCH_LINE(p);
+    CLVIS_PREFETCH_LINE(p + 64);
+#endif
+}
+#endif
+
 #endif
