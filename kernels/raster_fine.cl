@@ -10,6 +10,8 @@
    clear and no atomics). */
 #include "shared/raster.h"
 
+#define CLVIS_FINE_AHEAD 4 /* bin entries: how far ahead a triangle is prefetched (CLVIS_PREFETCH) */
+
 __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const uint* entries,
                           __global const uint* offsets, int tile_log2, int tiles_x, clvis_camera_gpu cam,
                           __global ulong* keys, clvis_region region, uint first, uint chunk, int merge,
@@ -60,6 +62,16 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
     ulong bound = CLVIS_BACKGROUND_KEY;
     int evaluated = 0;
     for (uint k = begin; k < end; ++k) {
+#ifdef CLVIS_PREFETCH
+        /* the triangle CLVIS_FINE_AHEAD entries on (its three lines at most): the list is in
+           setup's order, the bins' entries scattered over it */
+        if (k + CLVIS_FINE_AHEAD < end) {
+            __global const char* ahead = (__global const char*)&tris[entries[k + CLVIS_FINE_AHEAD]];
+            __builtin_prefetch((const void*)(ulong)ahead);
+            __builtin_prefetch((const void*)(ulong)(ahead + 64));
+            __builtin_prefetch((const void*)(ulong)(ahead + sizeof(clvis_raster_tri) - 1));
+        }
+#endif
         __global const clvis_raster_tri* t = &tris[entries[k]];
         int ya = max(t->y0, py0), yb = min(t->y1, py1);
         int xa = max(t->x0, px0), xb = min(t->x1, px1);
