@@ -56,6 +56,12 @@ typedef double v4d __attribute__((vector_size(32)));
 inline v4f vmin(v4f cur, v4f x) { return x < cur ? x : cur; }
 inline v4f vmax(v4f cur, v4f x) { return cur < x ? x : cur; }
 
+/// a where the mask's lane is all ones, b where it is zero (masks of comparisons or of 0 - bool).
+inline v4f select(v4i mask, v4f a, v4f b)
+{
+    return reinterpret_cast<v4f>((reinterpret_cast<v4i>(a) & mask) | (reinterpret_cast<v4i>(b) & ~mask));
+}
+
 /// A box as two registers; none() has lo = +inf, hi = -inf.
 struct VBox {
     v4f lo, hi;

@@ -94,28 +94,34 @@ BinSplit sweep_pair(const Prim* pair, const BinMap& map)
 
 CLVIS_SPLIT_CLONES void partition_prims(Prim* prims, const Range& r, const BinMap& map, int axis, int k, Range& left, Range& right)
 {
-    std::uint32_t i = r.begin, j = r.end;
-    VBox lbox = VBox::none(), lcbox = VBox::none(), rbox = VBox::none(), rcbox = VBox::none();
-    while (i < j) {
-        VBox p = prims[i].box();
-        v4f c = centroid(p);
-        if (map.bins3(c)[axis] <= k) {
-            lbox.grow(p);
-            lcbox.grow(c);
-            ++i;
-        } else {
-            rbox.grow(p);
-            rcbox.grow(c);
-            std::swap(prims[i], prims[--j]);
-        }
+    // Lomuto's scheme without a branch on the side (which a split makes a coin toss): every
+    // primitive is swapped with the first of the right side so far, which moves on only past a
+    // left one, and both sides' bounds grow by selects (a side not taken grows by the empty box:
+    // min and max leave it as it was).
+    const VBox none = VBox::none();
+    std::uint32_t j = r.begin;
+    VBox lbox = none, lcbox = none, rbox = none, rcbox = none;
+    for (std::uint32_t i = r.begin; i < r.end; ++i) {
+        Prim p = prims[i];
+        VBox b = p.box();
+        v4f c = centroid(b);
+        bool is_left = map.bins3(c)[axis] <= k;
+        v4i m = v4i{0, 0, 0, 0} - std::int32_t(is_left); // every lane: -1 left, 0 right
+        lbox.grow(VBox{select(m, b.lo, none.lo), select(m, b.hi, none.hi)});
+        lcbox.grow(VBox{select(m, c, none.lo), select(m, c, none.hi)});
+        rbox.grow(VBox{select(m, none.lo, b.lo), select(m, none.hi, b.hi)});
+        rcbox.grow(VBox{select(m, none.lo, c), select(m, none.hi, c)});
+        prims[i] = prims[j];
+        prims[j] = p;
+        j += std::uint32_t(is_left);
     }
     left.box = lbox.box();
     left.cbox = lcbox.box();
     right.box = rbox.box();
     right.cbox = rcbox.box();
     left.begin = r.begin;
-    left.end = i;
-    right.begin = i;
+    left.end = j;
+    right.begin = j;
     right.end = r.end;
 }
 
