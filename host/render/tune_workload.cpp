@@ -10,6 +10,8 @@
 #include <clvis/version.hpp>
 
 #include <algorithm>
+#include <map>
+#include <mutex>
 
 namespace clvis::detail {
 
@@ -42,13 +44,27 @@ const char* const tune_workload_name = "sphere6000+grid6000@640x480 min(3 frames
 
 TuneKey tune_device_key(const Device& device, std::initializer_list<const char*> names)
 {
-    std::string text = version() + "\n" + device.impl()->build_options("");
-    for (const char* name : names) text += embedded_kernel(name);
+    // The hash of the kernels' sources (about 100 KB, hashed a byte at a time) is taken once per
+    // build options and names in a process: every Renderer that prepares a tuned path asks.
+    std::string options = device.impl()->build_options(""), which = options;
+    for (const char* name : names) which += std::string("\n") + name;
+    static std::mutex mutex;
+    static std::map<std::string, std::string> hashes;
+    std::string hash;
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        auto it = hashes.find(which);
+        if (it != hashes.end()) hash = it->second;
+    }
+    if (hash.empty()) {
+        std::string text = version() + "\n" + options;
+        for (const char* name : names) text += embedded_kernel(name);
+        hash = stable_hash(text);
+        std::lock_guard<std::mutex> lock(mutex);
+        hashes.emplace(which, hash);
+    }
     const DeviceInfo& info = device.info();
-    return {{"device", info.name},
-            {"platform", info.platform},
-            {"driver", info.driver_version},
-            {"kernels", stable_hash(text)}};
+    return {{"device", info.name}, {"platform", info.platform}, {"driver", info.driver_version}, {"kernels", hash}};
 }
 
 double measure_tune_frames(const Device& device, const RenderOptions& options, Path path)
