@@ -45,8 +45,8 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
     if (merge)
         for (int j = py0; j <= py1; ++j) {
             __global const ulong* row = keys + (((size_t)j * (size_t)region.width + (size_t)px0) << n_log2);
-            __builtin_prefetch((const void*)(ulong)row);
-            __builtin_prefetch((const void*)(ulong)(row + ((size_t)(px1 - px0) << n_log2)));
+            CLVIS_PREFETCH_LINE(row);
+            CLVIS_PREFETCH_LINE(row + ((size_t)(px1 - px0) << n_log2));
         }
 #endif
     ulong8 best[CLVIS_FINE_SUB][CLVIS_FINE_SPANS];
@@ -67,9 +67,9 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
            setup's order, the bins' entries scattered over it */
         if (k + CLVIS_FINE_AHEAD < end) {
             __global const char* ahead = (__global const char*)&tris[entries[k + CLVIS_FINE_AHEAD]];
-            __builtin_prefetch((const void*)(ulong)ahead);
-            __builtin_prefetch((const void*)(ulong)(ahead + 64));
-            __builtin_prefetch((const void*)(ulong)(ahead + sizeof(clvis_raster_tri) - 1));
+            CLVIS_PREFETCH_LINE(ahead);
+            CLVIS_PREFETCH_LINE(ahead + 64);
+            CLVIS_PREFETCH_LINE(ahead + sizeof(clvis_raster_tri) - 1);
         }
 #endif
         __global const clvis_raster_tri* t = &tris[entries[k]];

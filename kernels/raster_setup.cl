@@ -65,8 +65,8 @@ static void prefetch_rows(const clvis_raster_tri* t, raster_setup_out out)
     for (int j = t->y0; j <= t->y1; ++j) {
         __global const ulong* row =
             (__global const ulong*)out.keys + (((size_t)j * (size_t)out.region.width + (size_t)t->x0) << n_log2);
-        __builtin_prefetch((const void*)(ulong)row);
-        __builtin_prefetch((const void*)(ulong)(row + last));
+        CLVIS_PREFETCH_LINE(row);
+        CLVIS_PREFETCH_LINE(row + last);
     }
 #endif
 }

@@ -50,21 +50,15 @@ TuneKey tune_device_key(const Device& device, std::initializer_list<const char*>
     for (const char* name : names) which += std::string("\n") + name;
     static std::mutex mutex;
     static std::map<std::string, std::string> hashes;
-    std::string hash;
-    {
-        std::lock_guard<std::mutex> lock(mutex);
-        auto it = hashes.find(which);
-        if (it != hashes.end()) hash = it->second;
-    }
-    if (hash.empty()) {
+    std::lock_guard<std::mutex> lock(mutex);
+    auto hash = hashes.find(which);
+    if (hash == hashes.end()) {
         std::string text = version() + "\n" + options;
         for (const char* name : names) text += embedded_kernel(name);
-        hash = stable_hash(text);
-        std::lock_guard<std::mutex> lock(mutex);
-        hashes.emplace(which, hash);
+        hash = hashes.emplace(which, stable_hash(text)).first;
     }
     const DeviceInfo& info = device.info();
-    return {{"device", info.name}, {"platform", info.platform}, {"driver", info.driver_version}, {"kernels", hash}};
+    return {{"device", info.name}, {"platform", info.platform}, {"driver", info.driver_version}, {"kernels", hash->second}};
 }
 
 double measure_tune_frames(const Device& device, const RenderOptions& options, Path path)

@@ -52,9 +52,6 @@ static inline void clvis_insert_child(clvis_u32 order[4], float along[4], clvis_
    a walk meets (the one visited next and those pushed) into the cache as the node is visited, so
    that the (up to four) misses of one node's children overlap instead of each stalling the walk
    when it is reached. A hint only: the walk reads the same values with or without it. */
-#ifdef CLVIS_PREFETCH
-#define CLVIS_PREFETCH_LINE(p) __builtin_prefetch((const void*)(ulong)(p))
-#endif
 static inline void clvis_prefetch_child(__global const clvis_bvh4_node* nodes, __global const clvis_bvh_tri* tris,
                                         __global const clvis_bvh4_node* n, int k)
 {

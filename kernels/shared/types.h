@@ -11,6 +11,13 @@ typedef ulong clvis_u64;
 typedef long clvis_i64;
 static inline clvis_u32 clvis_float_bits(float f) { return as_uint(f); }
 static inline float clvis_bits_float(clvis_u32 u) { return as_float(u); }
+/* A hint that the cache line holding address p is read soon: the CPU's prefetch where the host
+   builds with CLVIS_PREFETCH (Device::Impl::cpu_hints, PoCL's clang), nothing elsewhere. */
+#ifdef CLVIS_PREFETCH
+#define CLVIS_PREFETCH_LINE(p) __builtin_prefetch((const void*)(ulong)(p))
+#else
+#define CLVIS_PREFETCH_LINE(p) ((void)0)
+#endif
 #else
 #include <cstdint>
 #include <cstring>
