@@ -122,10 +122,11 @@ public:
         int bins = int(std::min<std::uint32_t>(std::uint32_t(opt_.sah_bins), std::max<std::uint32_t>(n / 4, 4)));
         BinMap map(r.cbox, bins);
         BinSplit best;
+        Bins binned; // set up for `bins` below, except for a pair
         if (n == 2) { // most of a soup's splits: the sweep's answer without the bins
             best = sweep_pair(prims_.data() + r.begin, map);
         } else {
-            Bins binned(bins);
+            binned.reset(bins);
             bin(r, map, workers, binned);
             best = sweep_bins(binned, map, n);
         }
@@ -139,6 +140,12 @@ public:
         double split_cost = traversal_cost * area + best.cost;
         if (!must_split && leaf_cost <= split_cost) return false;
         partition_prims(prims_.data(), r, map, best.axis, best.k, left, right);
+        if (n == 2) {
+            left.box = prims_[r.begin].box().box();
+            right.box = prims_[r.begin + 1].box().box();
+        } else {
+            binned.sides(best.axis, best.k, bins, left.box, right.box);
+        }
         return true;
     }
 

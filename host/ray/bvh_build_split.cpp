@@ -96,28 +96,28 @@ CLVIS_SPLIT_CLONES void partition_prims(Prim* prims, const Range& r, const BinMa
 {
     // Lomuto's scheme without a branch on the side (which a split makes a coin toss): every
     // primitive is swapped with the first of the right side so far, which moves on only past a
-    // left one, and both sides' bounds grow by selects (a side not taken grows by the empty box:
-    // min and max leave it as it was).
+    // left one, and both sides' centroid bounds grow by selects (a side not taken grows by the
+    // empty box: min and max leave it as it was). The side is tested in the registers: the
+    // comparison of the three bins with k, masked to the axis, ORed across the lanes.
     const VBox none = VBox::none();
+    v4i on_axis = v4i{0, 0, 0, 0};
+    on_axis[axis] = -1;
+    const v4i kk = v4i{k, k, k, k};
     std::uint32_t j = r.begin;
-    VBox lbox = none, lcbox = none, rbox = none, rcbox = none;
+    VBox lcbox = none, rcbox = none;
     for (std::uint32_t i = r.begin; i < r.end; ++i) {
         Prim p = prims[i];
-        VBox b = p.box();
-        v4f c = centroid(b);
-        bool is_left = map.bins3(c)[axis] <= k;
-        v4i m = v4i{0, 0, 0, 0} - std::int32_t(is_left); // every lane: -1 left, 0 right
-        lbox.grow(VBox{select(m, b.lo, none.lo), select(m, b.hi, none.hi)});
+        v4f c = centroid(p.box());
+        v4i m = (map.bins3(c) <= kk) & on_axis;
+        m |= __builtin_shufflevector(m, m, 1, 0, 3, 2);
+        m |= __builtin_shufflevector(m, m, 2, 3, 0, 1); // every lane: -1 left, 0 right
         lcbox.grow(VBox{select(m, c, none.lo), select(m, c, none.hi)});
-        rbox.grow(VBox{select(m, none.lo, b.lo), select(m, none.hi, b.hi)});
         rcbox.grow(VBox{select(m, none.lo, c), select(m, none.hi, c)});
         prims[i] = prims[j];
         prims[j] = p;
-        j += std::uint32_t(is_left);
+        j -= std::uint32_t(m[0]);
     }
-    left.box = lbox.box();
     left.cbox = lcbox.box();
-    right.box = rbox.box();
     right.cbox = rcbox.box();
     left.begin = r.begin;
     left.end = j;

@@ -53,13 +53,26 @@ struct Bins {
     VBox box[3][max_bins];
     std::uint32_t count[3][max_bins];
 
-    explicit Bins(int bins)
+    /// Uninitialised: set up by reset before use.
+    Bins() {}
+    explicit Bins(int bins) { reset(bins); }
+    void reset(int bins)
     {
         for (int k = 0; k < bins; ++k) // one loop for the three axes: one exit to predict
             for (int a = 0; a < 3; ++a) {
                 box[a][k] = VBox::none();
                 count[a][k] = 0;
             }
+    }
+    /// The boxes of bins 0..k and k+1..bins-1 on `axis`: the boxes of the two sides a split after
+    /// bin k makes, exactly (min and max of the same boxes as the primitives').
+    void sides(int axis, int k, int bins, Box& left, Box& right) const
+    {
+        VBox l = VBox::none(), r = VBox::none();
+        for (int b = 0; b <= k; ++b) l.grow(box[axis][b]);
+        for (int b = k + 1; b < bins; ++b) r.grow(box[axis][b]);
+        left = l.box();
+        right = r.box();
     }
     /// Bins merge by min, max and sums: exact, so the split does not depend on how the range
     /// was cut into parts.
@@ -125,7 +138,8 @@ BinSplit sweep_bins(const Bins& bins, const BinMap& map, std::uint32_t n);
 BinSplit sweep_pair(const Prim* pair, const BinMap& map);
 
 /// Moves the primitives of `r` whose centroid falls in bins 0..k on `axis` to its front (in
-/// place, an order fixed by the input) and sets both halves with their bounds.
+/// place, an order fixed by the input) and sets both halves' ranges and centroid bounds; their
+/// boxes are the caller's (the bins' union on each side: Bins::sides).
 void partition_prims(Prim* prims, const Range& r, const BinMap& map, int axis, int k, Range& left, Range& right);
 
 /// The range [b, e) of `prims` with its bounds and centroid bounds.
