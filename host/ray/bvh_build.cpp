@@ -272,9 +272,10 @@ template <class F> void parallel_for(std::size_t n, unsigned threads, F body)
 } // namespace
 
 Bvh build_bvh(const float* positions, const std::uint32_t* indices, std::size_t triangle_count,
-              const BvhBuildOptions& options)
+              const BvhBuildOptions& options, Bvh4* wide)
 {
     Bvh out;
+    if (wide) *wide = Bvh4();
     if (triangle_count == 0) return out;
     unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
 
@@ -314,11 +315,12 @@ Bvh build_bvh(const float* positions, const std::uint32_t* indices, std::size_t 
     out.nodes.reserve(triangle_count * 2 / std::size_t(std::max(1, options.max_leaf_size / 2)) + 1);
     out.depth = builder.build_parallel(root, 1, threads, out.nodes);
 
-    // The tree's totals (one pass over the nodes) on the pool, beside the leaf triangles' copy,
-    // past the size where the handover costs more.
-    auto totals_of = [&out] {
+    // The tree's totals (one pass over the nodes) and its collapse on the pool, beside the leaf
+    // triangles' copy, past the size where the handover costs more.
+    auto totals_of = [&out, wide, aligned = options.full_leaves] {
         for (const clvis_bvh_node& n : out.nodes) out.leaves += n.count > 0;
         out.sah_cost = bvh_sah_cost(out.nodes);
+        if (wide) *wide = collapse_bvh4(out, aligned);
     };
     TaskGroup totals;
     if (triangle_count >= Builder::min_parallel) totals.run(totals_of);

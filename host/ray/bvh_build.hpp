@@ -61,9 +61,11 @@ Bvh4 collapse_bvh4(const Bvh& bvh, bool aligned = false);
 void refit_bvh4(Bvh4& wide, const Bvh& bvh);
 
 /// Builds the BVH of `triangle_count` triangles given by `indices` (3 per triangle, id order)
-/// into `positions` (3 floats per vertex). Same input, same bits, whatever the threads do.
+/// into `positions` (3 floats per vertex). Same input, same bits, whatever the threads do. With
+/// `wide`, also collapses it there (collapse_bvh4, aligned as options.full_leaves): on the pool,
+/// beside the copy of the leaf triangles, so the same result as the two calls in less time.
 Bvh build_bvh(const float* positions, const std::uint32_t* indices, std::size_t triangle_count,
-              const BvhBuildOptions& options);
+              const BvhBuildOptions& options, Bvh4* wide = nullptr);
 
 /// Recomputes every box bottom-up and the leaf triangles' vertices from moved `positions`
 /// (same indices): the topology stays.

@@ -24,8 +24,7 @@ double ms_since(std::chrono::steady_clock::time_point t0)
 
 void build_tree(InstanceBvh::Tree& tree, const BvhBuildOptions& options)
 {
-    tree.bvh = build_bvh(tree.positions.data(), tree.indices.data(), tree.indices.size() / 3, options);
-    tree.wide = collapse_bvh4(tree.bvh);
+    tree.bvh = build_bvh(tree.positions.data(), tree.indices.data(), tree.indices.size() / 3, options, &tree.wide);
     tree.built = true;
 }
 

@@ -213,8 +213,7 @@ struct RayPipeline::Impl {
     void build_flat(const Scene& scene)
     {
         bvh = build_bvh(scene.world_positions().data(), scene.world_indices().data(), scene.triangle_count(),
-                        build_options());
-        wide = collapse_bvh4(bvh);
+                        build_options(), &wide);
     }
 
     /// Builds everything `scene` needs: the flat BVH, or the two levels (prototype trees reused).
