@@ -19,6 +19,10 @@
 
 #define CLVIS_RAY_NONE 0xFFFFFFFFu
 
+#if CLVIS_PACKET_W != 4
+#error "trace_packet stores a packet's row of keys as one ulong4"
+#endif
+
 /* CLVIS_RAY_STACK (entries, at least 3 x the 4-wide tree's depth) is set by the host at build
    time. */
 #ifndef CLVIS_RAY_STACK
@@ -237,7 +241,10 @@ static void trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int 
     for (int j = 0; j < h; ++j) {
         __global ulong* row =
             keys + ((((size_t)(y0 + j - region.y) * region.width + (x0 - region.x)) << cam.sample_log2) + cam.sample);
-        for (int i = 0; i < w; ++i) row[(size_t)i << cam.sample_log2] = best[j * CLVIS_PACKET_W + i];
+        if (w == CLVIS_PACKET_W && cam.sample_log2 == 0) /* one vector store, not a scatter */
+            vstore4(vload4(0, best + j * CLVIS_PACKET_W), 0, row);
+        else
+            for (int i = 0; i < w; ++i) row[(size_t)i << cam.sample_log2] = best[j * CLVIS_PACKET_W + i];
     }
 }
 

@@ -92,18 +92,15 @@ static lanes_f component(lanes_f x, lanes_f y, lanes_f z, lanes_i k)
    Lanes past the image's edge repeat the edge pixel's ray and are not written. */
 static void make_packet(clvis_camera_gpu cam, int x0, int y0, packet* p)
 {
-    /* clvis_screen_from_raster, once per column and once per row of the packet, then spread over
-       the lanes through private memory (Oclgrind 21.10 crashed on the swizzles that would do it) */
-    float4 rx = convert_float4(min((int4)(x0) + (int4)(0, 1, 2, 3), (int4)(cam.width - 1))) + clvis_camera_sample(cam).x;
-    float4 ry = convert_float4(min((int4)(y0) + (int4)(0, 1, 2, 3), (int4)(cam.height - 1))) + clvis_camera_sample(cam).y;
-    float4 col = (rx - cam.cx) / cam.fx;
-    float rows[CLVIS_PACKET_H], sxa[CLVIS_PACKET], sya[CLVIS_PACKET];
-    vstore4((cam.cy - ry) / cam.fy, 0, rows);
-    for (int j = 0; j < CLVIS_PACKET_H; ++j) {
-        vstore4(col, j, sxa);
-        vstore4((float4)(rows[j]), j, sya);
-    }
-    lanes_f sx = vload16(0, sxa), sy = vload16(0, sya);
+    /* clvis_screen_from_raster at each lane's pixel (lane l: column l % 4, row l / 4), the same
+       operations on the same values as for one pixel; no trip through private memory, whose
+       vector stores and wider loads stall store forwarding on CPUs */
+    const lanes_i column = (lanes_i)(0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3);
+    const lanes_i row = (lanes_i)(0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3);
+    clvis_vec2 frac = clvis_camera_sample(cam);
+    lanes_f rx = convert_float16(min((lanes_i)(x0) + column, (lanes_i)(cam.width - 1))) + frac.x;
+    lanes_f ry = convert_float16(min((lanes_i)(y0) + row, (lanes_i)(cam.height - 1))) + frac.y;
+    lanes_f sx = (rx - cam.cx) / cam.fx, sy = (cam.cy - ry) / cam.fy;
     /* clvis_primary_ray */
     lanes_f ox, oy, oz, dx, dy, dz;
     if (cam.ortho) {
