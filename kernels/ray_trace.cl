@@ -135,7 +135,7 @@ static void walk_span(const packet* p, clvis_camera_gpu cam, __global const clvi
         if (!nd) break;
         if (nd->count[k] == 0) node = nd->child[k];
         else {
-            packet_test_leaf(p, tris, nd->child[k], nd->count[k], 0, cam, faces, best_t, best_id, cull);
+            packet_test_leaf(p, tris, nd->child[k], nd->count[k], 0, cam.near_d, cam.far_d, faces, best_t, best_id, cull);
             cull_max = max_lanes(*cull);
             spread = min_lanes(*cull) * 1.25f < cull_max;
         }
@@ -167,7 +167,7 @@ static void trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int 
     lanes_f cull = (lanes_f)(cam.far_d * CLVIS_IZE_SCALE);
 #define CLVIS_HITS_BOX(nd, k) packet_hits_box(&p, nd, k, xi, cam.near_d, cull)
 #define CLVIS_TEST_LEAF(nd, k) \
-    packet_test_leaf(&p, tris, nd->child[k], nd->count[k], xi, cam, faces, &best_t, &best_id, &cull)
+    packet_test_leaf(&p, tris, nd->child[k], nd->count[k], xi, cam.near_d, cam.far_d, faces, &best_t, &best_id, &cull)
 #endif
 #define CLVIS_OPEN_LEAF(nd, k)                                                                            \
     if (inst == CLVIS_INST_TOP)                                                                           \

@@ -147,17 +147,19 @@ static void packet_test_triangle(const packet* p, const float* vert, uint tri_id
     *best_id = select(*best_id, id, nearer);
 }
 
-/* Tests the triangles of a leaf on every lane. */
+/* Tests the triangles of a leaf on every lane, hits between the view depths near_d and far_d. (Two
+   floats, not the camera: a function the compiler keeps out of line would copy the whole struct
+   at every call.) */
 static void packet_test_leaf(const packet* p, __global const clvis_bvh_tri* tris, uint first, uint count,
-                             __global const clvis_instance* xi, clvis_camera_gpu cam, int faces, lanes_u* best_t,
+                             __global const clvis_instance* xi, float near_d, float far_d, int faces, lanes_u* best_t,
                              lanes_u* best_id, lanes_f* cull)
 {
     for (uint k = first; k < first + count; ++k) {
         float v[9];
         uint id = clvis_instance_triangle(tris + k, xi, v);
-        packet_test_triangle(p, v, id, cam.near_d, cam.far_d, faces, best_t, best_id);
+        packet_test_triangle(p, v, id, near_d, far_d, faces, best_t, best_id);
     }
-    *cull = fmin((lanes_f)(cam.far_d), as_float16(*best_t)) * CLVIS_IZE_SCALE;
+    *cull = fmin((lanes_f)(far_d), as_float16(*best_t)) * CLVIS_IZE_SCALE;
 }
 
 #endif
