@@ -19,10 +19,6 @@
 
 #define CLVIS_RAY_NONE 0xFFFFFFFFu
 
-#if CLVIS_PACKET_W != 4
-#error "trace_packet stores a packet's row of keys as one ulong4"
-#endif
-
 /* CLVIS_RAY_STACK (entries, at least 3 x the 4-wide tree's depth) is set by the host at build
    time. */
 #ifndef CLVIS_RAY_STACK
@@ -135,7 +131,8 @@ static void walk_span(const packet* p, clvis_camera_gpu cam, __global const clvi
         if (!nd) break;
         if (nd->count[k] == 0) node = nd->child[k];
         else {
-            packet_test_leaf(p, tris, nd->child[k], nd->count[k], 0, cam.near_d, cam.far_d, faces, best_t, best_id, cull);
+            packet_test_leaf(p, tris, nd->child[k], nd->count[k], 0, cam.near_d, cam.far_d, faces, best_t, best_id,
+                             cull);
             cull_max = max_lanes(*cull);
             spread = min_lanes(*cull) * 1.25f < cull_max;
         }
@@ -148,9 +145,12 @@ static void walk_span(const packet* p, clvis_camera_gpu cam, __global const clvi
    entries name a child slot, (4-wide node << 2) | slot, so that a popped child is tested again
    against the hits found since it was pushed, with the instance it lies in (shared/instance.h:
    boxes and triangles tested in world space); `two_level` starts in the top level of `instances`. */
-static inline __attribute__((always_inline)) void trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int y0, __global const clvis_bvh4_node* nodes,
-                         uint node_count, __global const clvis_bvh_tri* tris, __global const clvis_instance* instances,
-                         int two_level, int faces, __global ulong* keys)
+/* Always inlined: out of line it took the camera by value, a per-work-item copy on PoCL read back
+   across its stores (docs/architecture.md, decision 5). */
+static inline __attribute__((always_inline)) void
+trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int y0, __global const clvis_bvh4_node* nodes,
+             uint node_count, __global const clvis_bvh_tri* tris, __global const clvis_instance* instances,
+             int two_level, int faces, __global ulong* keys)
 {
     int x_end = region.x + region.width, y_end = region.y + region.height;
     packet p;

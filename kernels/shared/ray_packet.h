@@ -10,6 +10,12 @@
 #include "shared/instance.h"
 #include "shared/ray.h"
 
+/* 4x4 pixels as the 16 lanes: make_packet's column and row vectors and trace_packet's one ulong4
+   store per row of keys are written for that shape. */
+#if CLVIS_PACKET_W != 4 || CLVIS_PACKET_H != 4
+#error "ray packets are 4x4 pixels, the 16 lanes of float16"
+#endif
+
 typedef float16 lanes_f;
 typedef int16 lanes_i;
 typedef uint16 lanes_u;
