@@ -274,8 +274,9 @@ std::size_t fallbacks(const Scene& s, int w, int h)
             for (std::uint32_t id = 0; id < s.triangle_count(); ++id) {
                 float v[9];
                 s.triangle(id, v);
-                clvis_tri_2d p = clvis_project_triangle_scaled(ray, {v[0], v[1], v[2]}, {v[3], v[4], v[5]},
-                                                               {v[6], v[7], v[8]}, 1.0f);
+                clvis_tri_2d p;
+                clvis_project_triangle_scaled(ray, {v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, 1.0f,
+                                              &p);
                 float u = p.cx * p.by - p.cy * p.bx, vv = p.ax * p.cy - p.ay * p.cx, ww = p.bx * p.ay - p.by * p.ax;
                 n += u == 0.0f || vv == 0.0f || ww == 0.0f;
             }

@@ -122,8 +122,8 @@ static inline void clvis_exact_edges(float* u, float* v, float* w, float ax, flo
     *w = clvis_exact_dp(bx, ay, by, ax);
 }
 
-static inline clvis_tri_2d clvis_project_triangle_scaled(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
-                                                         float k)
+static inline CLVIS_ALWAYS_INLINE void clvis_project_triangle_scaled(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b,
+                                                                     clvis_vec3 c, float k, clvis_tri_2d* out)
 {
     clvis_tri_2d p;
     clvis_vec3 A = clvis_ray_translate(a, s.origin, k), B = clvis_ray_translate(b, s.origin, k);
@@ -146,26 +146,43 @@ static inline clvis_tri_2d clvis_project_triangle_scaled(clvis_ray_shear s, clvi
     if (p.u == 0.0f || p.v == 0.0f || p.w == 0.0f)
         clvis_exact_edges(&p.u, &p.v, &p.w, p.ax, p.ay, p.bx, p.by, p.cx, p.cy);
     p.unscale = 1.0f / k;
-    return p;
+    *out = p;
 }
 
 /* The hit distance times det, in the scaled units of p. */
-static inline float clvis_triangle_tz(clvis_ray_shear s, clvis_tri_2d p)
+static inline CLVIS_ALWAYS_INLINE float clvis_triangle_tz(clvis_ray_shear s, clvis_tri_2d p)
 {
     return p.u * (s.sz * p.akz) + p.v * (s.sz * p.bkz) + p.w * (s.sz * p.ckz);
 }
 
-/* The triangle in the ray's frame. Where huge finite coordinates overflow (det or tz not
-   finite), it is projected again with every coordinate scaled by clvis_ray_scale of the largest. */
-static inline clvis_tri_2d clvis_project_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c)
+/* The triangle projected again with every coordinate scaled by clvis_ray_scale of the largest
+   magnitude: the rare case of huge finite coordinates, kept out of line. Its arguments and result
+   go by value: a pointer to the caller's triangle or vertices would keep them in memory on the
+   common path too. */
+static CLVIS_NOINLINE clvis_tri_2d clvis_project_triangle_rescaled(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b,
+                                                                   clvis_vec3 c)
 {
-    clvis_tri_2d p = clvis_project_triangle_scaled(s, a, b, c, 1.0f);
-    if (clvis_finite(p.u + p.v + p.w) && clvis_finite(clvis_triangle_tz(s, p))) return p;
     float m = clvis_max_abs3(a), mb = clvis_max_abs3(b), mc = clvis_max_abs3(c), mo = clvis_max_abs3(s.origin);
     m = m > mb ? m : mb;
     m = m > mc ? m : mc;
     m = m > mo ? m : mo;
-    return clvis_project_triangle_scaled(s, a, b, c, clvis_ray_scale(m));
+    clvis_tri_2d p;
+    clvis_project_triangle_scaled(s, a, b, c, clvis_ray_scale(m), &p);
+    return p;
+}
+
+/* The triangle in the ray's frame. Where huge finite coordinates overflow (det or tz not
+   finite), it is projected again with every coordinate scaled by clvis_ray_scale of the largest.
+   Always inlined into the tests below (and they into their callers where hot): out of line, the
+   ray, the vertices and the result went through private memory per triangle. The result goes out
+   by pointer, not returned: a returned struct is a noalias (sret) argument, and inlining one
+   emits llvm.experimental.noalias.scope.decl, which Oclgrind 21.10's interpreter cannot run. */
+static inline CLVIS_ALWAYS_INLINE void clvis_project_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b,
+                                                              clvis_vec3 c, clvis_tri_2d* p)
+{
+    clvis_project_triangle_scaled(s, a, b, c, 1.0f, p);
+    if (clvis_finite(p->u + p->v + p->w) && clvis_finite(clvis_triangle_tz(s, *p))) return;
+    *p = clvis_project_triangle_rescaled(s, a, b, c);
 }
 
 /* The ray parameter of the projected triangle's plane (det = u + v + w, non-zero). */
@@ -182,10 +199,11 @@ static inline float clvis_triangle_t(clvis_ray_shear s, clvis_tri_2d p, float de
    the triangle is front-facing (its normal cross(b - a, c - a) points against the ray,
    shared/visibility.h). The same float operations on host and device (no contraction:
    shared/types.h), so host tests check what kernels compute. */
-static inline int clvis_intersect_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
+static inline CLVIS_ALWAYS_INLINE int clvis_intersect_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
                                            float near_t, float far_t, int cull, float* t)
 {
-    clvis_tri_2d p = clvis_project_triangle(s, a, b, c);
+    clvis_tri_2d p;
+    clvis_project_triangle(s, a, b, c, &p);
     int inside = (p.u >= 0.0f && p.v >= 0.0f && p.w >= 0.0f) || (p.u <= 0.0f && p.v <= 0.0f && p.w <= 0.0f);
     float det = p.u + p.v + p.w;
     float tt = clvis_triangle_t(s, p, det);
@@ -197,10 +215,10 @@ static inline int clvis_intersect_triangle(clvis_ray_shear s, clvis_vec3 a, clvi
    projected triangle and its determinant in *p and *det: the barycentrics of a hit (CONVENTIONS.md:
    the weights of b and c, the hit point (1 - u - v) a + u b + v c) are p->v / det and p->w / det,
    which a caller computes only for a hit it keeps. */
-static inline int clvis_intersect_triangle_plane(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
+static inline CLVIS_ALWAYS_INLINE int clvis_intersect_triangle_plane(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
                                                  float near_t, float far_t, float* t, clvis_tri_2d* p, float* det)
 {
-    *p = clvis_project_triangle(s, a, b, c);
+    clvis_project_triangle(s, a, b, c, p);
     int inside = (p->u >= 0.0f && p->v >= 0.0f && p->w >= 0.0f) || (p->u <= 0.0f && p->v <= 0.0f && p->w <= 0.0f);
     *det = p->u + p->v + p->w;
     if (!inside || *det == 0.0f) return 0;
@@ -228,10 +246,11 @@ static inline int clvis_edge_side(float e, float px, float py, float qx, float q
    triangles that share them (clvis_edge_side), so a ray crossing a closed mesh through an edge or
    a vertex counts one crossing, and a ray grazing a silhouette edge counts none or two. A ray in
    the triangle's plane or a degenerate triangle never hits. */
-static inline int clvis_intersect_triangle_half_open(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
+static inline CLVIS_ALWAYS_INLINE int clvis_intersect_triangle_half_open(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
                                                      float near_t, float far_t, float* t)
 {
-    clvis_tri_2d p = clvis_project_triangle(s, a, b, c);
+    clvis_tri_2d p;
+    clvis_project_triangle(s, a, b, c, &p);
     int su = clvis_edge_side(p.u, p.bx, p.by, p.cx, p.cy);
     int sv = clvis_edge_side(p.v, p.cx, p.cy, p.ax, p.ay);
     int sw = clvis_edge_side(p.w, p.ax, p.ay, p.bx, p.by);

@@ -29,6 +29,17 @@ static inline clvis_u32 clvis_float_bits(float f) { clvis_u32 u; std::memcpy(&u,
 static inline float clvis_bits_float(clvis_u32 u) { float f; std::memcpy(&f, &u, 4); return f; }
 #endif
 
+/* For hot helpers of the shared headers that take or return structs by value: PoCL keeps such
+   a helper out of line and copies the structs through private memory per call, then reads them
+   back with loads that straddle the copy's stores (docs/architecture.md, "Decisions", 5). */
+#if defined(__OPENCL_C_VERSION__) || defined(__GNUC__)
+#define CLVIS_ALWAYS_INLINE __attribute__((always_inline))
+#define CLVIS_NOINLINE __attribute__((noinline))
+#else
+#define CLVIS_ALWAYS_INLINE
+#define CLVIS_NOINLINE
+#endif
+
 /* Own vector structs: OpenCL's float3 is 16 bytes and C++ has none. */
 typedef struct { float x, y; } clvis_vec2;
 typedef struct { float x, y, z; } clvis_vec3;
