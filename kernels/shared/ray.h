@@ -199,8 +199,9 @@ static inline float clvis_triangle_t(clvis_ray_shear s, clvis_tri_2d p, float de
    the triangle is front-facing (its normal cross(b - a, c - a) points against the ray,
    shared/visibility.h). The same float operations on host and device (no contraction:
    shared/types.h), so host tests check what kernels compute. */
-static inline CLVIS_ALWAYS_INLINE int clvis_intersect_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
-                                           float near_t, float far_t, int cull, float* t)
+static inline CLVIS_ALWAYS_INLINE int clvis_intersect_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b,
+                                                               clvis_vec3 c, float near_t, float far_t, int cull,
+                                                               float* t)
 {
     clvis_tri_2d p;
     clvis_project_triangle(s, a, b, c, &p);
@@ -215,8 +216,9 @@ static inline CLVIS_ALWAYS_INLINE int clvis_intersect_triangle(clvis_ray_shear s
    projected triangle and its determinant in *p and *det: the barycentrics of a hit (CONVENTIONS.md:
    the weights of b and c, the hit point (1 - u - v) a + u b + v c) are p->v / det and p->w / det,
    which a caller computes only for a hit it keeps. */
-static inline CLVIS_ALWAYS_INLINE int clvis_intersect_triangle_plane(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
-                                                 float near_t, float far_t, float* t, clvis_tri_2d* p, float* det)
+static inline CLVIS_ALWAYS_INLINE int clvis_intersect_triangle_plane(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b,
+                                                                     clvis_vec3 c, float near_t, float far_t, float* t,
+                                                                     clvis_tri_2d* p, float* det)
 {
     clvis_project_triangle(s, a, b, c, p);
     int inside = (p->u >= 0.0f && p->v >= 0.0f && p->w >= 0.0f) || (p->u <= 0.0f && p->v <= 0.0f && p->w <= 0.0f);
@@ -246,8 +248,9 @@ static inline int clvis_edge_side(float e, float px, float py, float qx, float q
    triangles that share them (clvis_edge_side), so a ray crossing a closed mesh through an edge or
    a vertex counts one crossing, and a ray grazing a silhouette edge counts none or two. A ray in
    the triangle's plane or a degenerate triangle never hits. */
-static inline CLVIS_ALWAYS_INLINE int clvis_intersect_triangle_half_open(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
-                                                     float near_t, float far_t, float* t)
+static inline CLVIS_ALWAYS_INLINE int clvis_intersect_triangle_half_open(clvis_ray_shear s, clvis_vec3 a,
+                                                                         clvis_vec3 b, clvis_vec3 c, float near_t,
+                                                                         float far_t, float* t)
 {
     clvis_tri_2d p;
     clvis_project_triangle(s, a, b, c, &p);
