@@ -84,7 +84,7 @@ static void list_triangle(const clvis_raster_tri* t, raster_setup_out out)
 /* Rasterizes a small triangle on the spot (atomic mode), or lists it for binning: at the camera's
    sample (shared/samples.h), one launch per sample. Always inlined: out of line, its struct
    arguments were per-work-item copies on PoCL (docs/architecture.md, decision 5). */
-static inline __attribute__((always_inline)) void
+static inline CLVIS_ALWAYS_INLINE void
 emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_raster_vertex c, uint id, raster_setup_out out)
 {
     clvis_raster_tri t;

@@ -144,10 +144,10 @@ static void walk_span(const packet* p, clvis_camera_gpu cam, __global const clvi
    `region` into its buffer (shared/region.h); `faces` is the cull mode (CLVIS_CULL_*). Stack
    entries name a child slot, (4-wide node << 2) | slot, so that a popped child is tested again
    against the hits found since it was pushed, with the instance it lies in (shared/instance.h:
-   boxes and triangles tested in world space); `two_level` starts in the top level of `instances`. */
-/* Always inlined: out of line it took the camera by value, a per-work-item copy on PoCL read back
+   boxes and triangles tested in world space); `two_level` starts in the top level of `instances`.
+   Always inlined: out of line it took the camera by value, a per-work-item copy on PoCL read back
    across its stores (docs/architecture.md, decision 5). */
-static inline __attribute__((always_inline)) void
+static inline CLVIS_ALWAYS_INLINE void
 trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int y0, __global const clvis_bvh4_node* nodes,
              uint node_count, __global const clvis_bvh_tri* tris, __global const clvis_instance* instances,
              int two_level, int faces, __global ulong* keys)

@@ -16,8 +16,8 @@ typedef struct { lanes_f u, v, w, det, tz; } packet_edges;
 /* The scalar code's exact fallback (clvis_exact_edges), lane by lane, on the lanes where an edge
    function rounded to zero. It is rare and kept out of line, so that packet_edges_of, free of its
    arrays, is inlined into every triangle's test. */
-__attribute__((noinline)) static packet_edges packet_exact_edges(packet_edges r, lanes_i zero, lanes_f ax, lanes_f ay,
-                                                                 lanes_f bx, lanes_f by, lanes_f cx, lanes_f cy)
+static CLVIS_NOINLINE packet_edges packet_exact_edges(packet_edges r, lanes_i zero, lanes_f ax, lanes_f ay,
+                                                      lanes_f bx, lanes_f by, lanes_f cx, lanes_f cy)
 {
     float l_ax[CLVIS_PACKET], l_ay[CLVIS_PACKET], l_bx[CLVIS_PACKET], l_by[CLVIS_PACKET], l_cx[CLVIS_PACKET];
     float l_cy[CLVIS_PACKET], l_u[CLVIS_PACKET], l_v[CLVIS_PACKET], l_w[CLVIS_PACKET];
