@@ -119,7 +119,7 @@ public:
         // A bin per 4 triangles at most: near the leaves the sweep would cost more than the
         // binning. 1 per triangle cost 11% more instructions (a 64k sphere) for an SAH cost at most
         // 0.5% lower (a 64k soup; the bunny's 0.1%).
-        int bins = int(std::min<std::uint32_t>(std::uint32_t(opt_.sah_bins), std::max<std::uint32_t>(n / 4, 4)));
+        int bins = int(std::min<std::uint32_t>(std::uint32_t(opt_.sah_bins), std::max<std::uint32_t>(n / 8, 4)));
         BinMap map(r.cbox, bins);
         BinSplit best;
         Bins binned; // set up for `bins` below, except for a pair
@@ -256,17 +256,29 @@ clvis_bvh_tri make_tri(const float* positions, const std::uint32_t* indices, std
     return t;
 }
 
-/// Runs body(i) for i in [0, n) on `threads` threads, in contiguous chunks.
-template <class F> void parallel_for(std::size_t n, unsigned threads, F body)
+/// Sets tris[i] to triangle id_of(i) for every i, on `threads` threads: a gather through the
+/// indices, at random where the tree's order is not the mesh's (a soup). Each triangle's indices
+/// are fetched ahead of use, and its vertices a little less far ahead, so the misses of several
+/// triangles overlap (a random 1M-triangle order: 69 -> 25 ms on one thread).
+template <class IdOf>
+void gather_tris(const float* positions, const std::uint32_t* indices, unsigned threads, IdOf id_of,
+                 std::vector<clvis_bvh_tri>& tris)
 {
+    constexpr std::size_t index_ahead = 16, vertex_ahead = 8;
+    std::size_t n = tris.size();
     unsigned parts = unsigned(std::min<std::size_t>(threads, std::max<std::size_t>(1, n / 16384)));
-    if (parts <= 1) {
-        for (std::size_t i = 0; i < n; ++i) body(i);
-        return;
-    }
-    parallel_slices(n, parts, [&](unsigned, std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) body(i);
-    });
+    auto slice = [&](unsigned, std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) {
+            if (i + index_ahead < e) __builtin_prefetch(indices + std::size_t(id_of(i + index_ahead)) * 3);
+            if (i + vertex_ahead < e) {
+                const std::uint32_t* v = indices + std::size_t(id_of(i + vertex_ahead)) * 3;
+                for (int c = 0; c < 3; ++c) __builtin_prefetch(positions + std::size_t(v[c]) * 3);
+            }
+            tris[i] = make_tri(positions, indices, id_of(i));
+        }
+    };
+    if (parts <= 1) slice(0, 0, n);
+    else parallel_slices(n, parts, slice);
 }
 
 } // namespace
@@ -326,15 +338,15 @@ Bvh build_bvh(const float* positions, const std::uint32_t* indices, std::size_t 
     if (triangle_count >= Builder::min_parallel) totals.run(totals_of);
     else totals_of();
     out.tris.resize(triangle_count);
-    parallel_for(triangle_count, threads, [&](std::size_t i) { out.tris[i] = make_tri(positions, indices, prims[i].id()); });
+    gather_tris(positions, indices, threads, [&](std::size_t i) { return prims[i].id(); }, out.tris);
     totals.wait();
     return out;
 }
 
 void refit_bvh(Bvh& bvh, const float* positions, const std::uint32_t* indices)
 {
-    parallel_for(bvh.tris.size(), std::max(1u, std::thread::hardware_concurrency()),
-                 [&](std::size_t i) { bvh.tris[i] = make_tri(positions, indices, bvh.tris[i].id); });
+    gather_tris(positions, indices, std::max(1u, std::thread::hardware_concurrency()),
+                [&](std::size_t i) { return bvh.tris[i].id; }, bvh.tris);
     // Depth-first order puts children after their parent: one backward pass sees children first.
     for (std::size_t i = bvh.nodes.size(); i-- > 0;) {
         clvis_bvh_node& n = bvh.nodes[i];
