@@ -116,9 +116,10 @@ public:
             split_median(r, left, right);
             return true;
         }
-        // A bin per 4 triangles at most: near the leaves the sweep would cost more than the
+        // A bin per 8 triangles at most: near the leaves the sweep would cost more than the
         // binning. 1 per triangle cost 11% more instructions (a 64k sphere) for an SAH cost at most
-        // 0.5% lower (a 64k soup; the bunny's 0.1%).
+        // 0.5% lower (a 64k soup; the bunny's 0.1%) than 1 per 4, and 1 per 8 builds 5-8% faster
+        // than 1 per 4 for an SAH cost 0.2% (spheres), 0.3% (the bunny), 0.6% (soups) higher.
         int bins = int(std::min<std::uint32_t>(std::uint32_t(opt_.sah_bins), std::max<std::uint32_t>(n / 8, 4)));
         BinMap map(r.cbox, bins);
         BinSplit best;
