@@ -1,18 +1,15 @@
 // The process's thread pool (host/runtime/thread_pool.cpp) under the BVH build: many builds at
 // once from several threads give the serial build's bits, tasks nest without tying up the pool,
-// a task's exception reaches the caller as a clvis::Error, and the build's large-page
-// vectors (host/runtime/large_pages.hpp) hold what they were given.
+// and a task's exception reaches the caller as a clvis::Error.
 #include "catch.hpp"
 
 #include "ray/bvh_build.hpp"
-#include "runtime/large_pages.hpp"
 #include "runtime/thread_pool.hpp"
 
 #include <clvis/error.hpp>
 #include <clvis/procedural.hpp>
 
 #include <atomic>
-#include <cstdint>
 #include <cstring>
 #include <functional>
 #include <new>
@@ -143,24 +140,4 @@ TEST_CASE("parallel_slices covers [0, n) once in contiguous slices", "[bvh]")
         for (const auto& h : hits) REQUIRE(h.load() == 1);
         for (int s : seen_part) CHECK(s >= int(1000 / parts));
     }
-}
-
-TEST_CASE("large-page vectors keep their contents as they grow, in 2 MiB-aligned mappings", "[bvh]")
-{
-    // Grows from std::allocator's small blocks across the large-page threshold (runtime/large_pages.hpp)
-    // and far past it: every reallocation moves the elements, whichever side of it a block lies.
-    LargeVector<std::uint64_t> v;
-    std::size_t past = 3 * large_threshold / sizeof(std::uint64_t);
-    for (std::size_t i = 0; i < past; ++i) v.push_back(i * 2654435761u);
-    for (std::size_t i = 0; i < past; i += 4093) REQUIRE(v[i] == i * 2654435761u);
-    REQUIRE(v.back() == (past - 1) * 2654435761u);
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-    CHECK(reinterpret_cast<std::uintptr_t>(v.data()) % large_page_bytes == 0);
-#endif
-    LargeVector<std::uint64_t> copy = v; // a second mapping, unmapped on its own
-    v.clear();
-    v.shrink_to_fit();
-    CHECK(copy[past / 2] == (past / 2) * 2654435761u);
-    LargePageAllocator<std::uint64_t> a;
-    CHECK_THROWS_AS(a.allocate(std::size_t(-1) / 4), std::bad_alloc);
 }

@@ -28,14 +28,14 @@ class Builder {
 public:
     /// `task_grain`: 0, or the size down to which ranges become tasks whatever `threads` says
     /// (build_parallel).
-    Builder(LargeVector<Prim>& prims, const BvhBuildOptions& o, std::uint32_t task_grain)
+    Builder(std::vector<Prim>& prims, const BvhBuildOptions& o, std::uint32_t task_grain)
         : prims_(prims), opt_(o), task_grain_(task_grain)
     {
     }
 
     /// Builds the subtree of `r` at `depth` (root: 1) into `out`, depth-first; interior nodes name
     /// their right child by its index in `out`. Returns the deepest leaf's depth.
-    int build_serial(const Range& r, int depth, LargeVector<clvis_bvh_node>& out) const
+    int build_serial(const Range& r, int depth, std::vector<clvis_bvh_node>& out) const
     {
         std::size_t self = out.size();
         out.push_back(make_node(r.box));
@@ -56,7 +56,7 @@ public:
     /// that may use the whole pool), every range above the grain hands its right child to the
     /// pool, so whichever thread is free takes it: an uneven split (the bunny's top one is 62:38)
     /// does not leave a thread idle.
-    int build_parallel(const Range& r, int depth, unsigned threads, LargeVector<clvis_bvh_node>& out) const
+    int build_parallel(const Range& r, int depth, unsigned threads, std::vector<clvis_bvh_node>& out) const
     {
         if (threads <= 1 || r.count() < std::max(min_parallel, task_grain_)) return build_serial(r, depth, out);
         std::size_t self = out.size();
@@ -70,7 +70,7 @@ public:
         unsigned threads_right = std::max(1u, unsigned(std::uint64_t(threads) * right.count() / r.count()));
         threads_right = task_grain_ ? threads : std::min(threads_right, threads - 1);
         unsigned threads_left = task_grain_ ? threads : threads - threads_right;
-        LargeVector<clvis_bvh_node> right_nodes;
+        std::vector<clvis_bvh_node> right_nodes;
         right_nodes.reserve(std::size_t(right.count()) * 2);
         int depth_right = 0;
         TaskGroup group;
@@ -239,7 +239,7 @@ private:
         range_bounds(prims_.data(), mid, r.end, right);
     }
 
-    LargeVector<Prim>& prims_;
+    std::vector<Prim>& prims_;
     BvhBuildOptions opt_;
     std::uint32_t task_grain_;
 };
@@ -263,7 +263,7 @@ clvis_bvh_tri make_tri(const float* positions, const std::uint32_t* indices, std
 /// triangles overlap (a random 1M-triangle order: 69 -> 25 ms on one thread).
 template <class IdOf>
 void gather_tris(const float* positions, const std::uint32_t* indices, unsigned threads, IdOf id_of,
-                 LargeVector<clvis_bvh_tri>& tris)
+                 std::vector<clvis_bvh_tri>& tris)
 {
     constexpr std::size_t index_ahead = 16, vertex_ahead = 8;
     std::size_t n = tris.size();
@@ -292,7 +292,7 @@ Bvh build_bvh(const float* positions, const std::uint32_t* indices, std::size_t 
     if (triangle_count == 0) return out;
     unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
 
-    LargeVector<Prim> prims(triangle_count);
+    std::vector<Prim> prims(triangle_count);
     // The root's bounds come with the boxes, per slice, merged exactly (min and max).
     unsigned parts = unsigned(std::min<std::size_t>(threads, std::max<std::size_t>(1, triangle_count / 16384)));
     std::vector<VBox> boxes(parts, VBox::none()), cboxes(parts, VBox::none());
@@ -373,7 +373,7 @@ void refit_bvh(Bvh& bvh, const float* positions, const std::uint32_t* indices)
     bvh.sah_cost = bvh_sah_cost(bvh.nodes);
 }
 
-double bvh_sah_cost(const LargeVector<clvis_bvh_node>& nodes)
+double bvh_sah_cost(const std::vector<clvis_bvh_node>& nodes)
 {
     if (nodes.empty()) return 0;
     double root = node_area(nodes[0]);

@@ -7,8 +7,6 @@
 
 #include <clvis/render_options.hpp>
 
-#include "runtime/large_pages.hpp"
-
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -38,10 +36,8 @@ struct BvhBuildOptions : BvhOptions {
 constexpr int bvh_max_sah_depth = 48;
 
 struct Bvh {
-    // In large pages (runtime/large_pages.hpp), as are the build's own arrays: a fresh build's
-    // first touch of them faults once per 2 MiB.
-    LargeVector<clvis_bvh_node> nodes;   ///< depth-first; empty for a scene without triangles
-    LargeVector<clvis_bvh_tri> tris;     ///< leaf slots: each leaf's triangles contiguous
+    std::vector<clvis_bvh_node> nodes;   ///< depth-first; empty for a scene without triangles
+    std::vector<clvis_bvh_tri> tris;     ///< leaf slots: each leaf's triangles contiguous
     std::size_t leaves = 0;
     int depth = 0;                       ///< nodes on the longest root-to-leaf path
     double sah_cost = 0;                 ///< see bvh_sah_cost
@@ -49,8 +45,8 @@ struct Bvh {
 
 /// The binary tree collapsed to 4-wide nodes for the kernel, depth-first from the root (node 0).
 struct Bvh4 {
-    LargeVector<clvis_bvh4_node> nodes; ///< empty for a scene without triangles
-    LargeVector<std::uint32_t> source;  ///< per slot (4 per node): the binary node it copies, or ~0u
+    std::vector<clvis_bvh4_node> nodes; ///< empty for a scene without triangles
+    std::vector<std::uint32_t> source;  ///< per slot (4 per node): the binary node it copies, or ~0u
     int depth = 0;                      ///< 4-wide nodes on the longest root-to-leaf path
 };
 
@@ -77,6 +73,6 @@ void refit_bvh(Bvh& bvh, const float* positions, const std::uint32_t* indices);
 
 /// SAH cost relative to the root: sum over interior nodes of area, plus over leaves of area times
 /// triangles, divided by the root's area (1 traversal step and 1 triangle test cost the same).
-double bvh_sah_cost(const LargeVector<clvis_bvh_node>& nodes);
+double bvh_sah_cost(const std::vector<clvis_bvh_node>& nodes);
 
 } // namespace clvis::detail

@@ -143,7 +143,7 @@ void InstanceBvh::build_top(const Scene& scene, const BvhBuildOptions& options)
 
 void InstanceBvh::assemble()
 {
-    nodes_.assign(top_wide_.nodes.begin(), top_wide_.nodes.end());
+    nodes_ = top_wide_.nodes;
     tris_.clear();
     auto place = [&](const Tree& t, bool global_ids) {
         auto root = std::uint32_t(nodes_.size());

@@ -146,8 +146,8 @@ struct RayPipeline::Impl {
     }
 
     /// Writes `items` into `buffer` (made or remade at their size, at least one element).
-    template <typename T, typename A>
-    void put(cl::Buffer& buffer, const std::vector<T, A>& items, const std::string& what, cl::CommandQueue& queue)
+    template <typename T>
+    void put(cl::Buffer& buffer, const std::vector<T>& items, const std::string& what, cl::CommandQueue& queue)
     {
         std::uint64_t bytes = std::max<std::uint64_t>(items.size(), 1) * sizeof(T);
         device.check_allocation(bytes, "the BVH's " + std::to_string(items.size()) + " " + what);
