@@ -325,7 +325,11 @@ Bvh build_bvh(const float* positions, const std::uint32_t* indices, std::size_t 
     // 16 tasks; one given fewer divides its threads by the split ratio.
     std::uint32_t grain = threads >= pool_workers() + 1 ? std::uint32_t(triangle_count / 16) : 0;
     Builder builder(prims, options, grain);
-    out.nodes.reserve(triangle_count * 2 / std::size_t(std::max(1, options.max_leaf_size / 2)) + 1);
+    // Room for the most nodes n triangles can make (2n - 1, a leaf each): the vector never
+    // reallocates, which would touch the nodes twice, and the room a tree of fuller leaves leaves
+    // unused is never touched, so costs no page faults (a soup's tree has 2n - 1 nodes, and the
+    // former guess of n + 1 moved 32 MB of a 1M soup's nodes).
+    out.nodes.reserve(2 * triangle_count);
     out.depth = builder.build_parallel(root, 1, threads, out.nodes);
 
     // The tree's totals (one pass over the nodes) and its collapse on the pool, beside the leaf
