@@ -1,10 +1,16 @@
 // The process's worker threads (thread_pool.hpp): one queue under one mutex, workers taking the
-// oldest task, waiting callers the newest (most likely their own, the smallest).
+// oldest task, waiting callers the newest (most likely their own, the smallest). A thread that
+// finds nothing to do polls for a short while (spin_for) before it sleeps, and threads are woken
+// only when one sleeps: a build hands out tasks in bursts, and waking a sleeping thread costs tens
+// of microseconds (on a VM, an interrupt through the host), which a build of a few thousand
+// triangles, under a millisecond, paid at every task.
 #include "runtime/thread_pool.hpp"
 
 #include <clvis/error.hpp>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <new>
@@ -27,11 +33,14 @@ public:
 
     void push(TaskGroup& group, std::function<void()> fn)
     {
+        bool wake;
         {
             std::lock_guard<std::mutex> lock(mutex_);
             queue_.push_back({&group, std::move(fn)});
+            queued_.store(queue_.size());
+            wake = sleepers_ > 0;
         }
-        cv_.notify_one();
+        if (wake) cv_.notify_one();
     }
 
     /// Runs queued tasks until `group` has none unfinished.
@@ -40,11 +49,12 @@ public:
         std::unique_lock<std::mutex> lock(mutex_);
         while (group.pending_.load() > 0) {
             if (queue_.empty()) {
-                cv_.wait(lock);
+                idle(lock, [&] { return group.pending_.load() == 0 || queued_.load() > 0; });
                 continue;
             }
             Task task = std::move(queue_.back());
             queue_.pop_back();
+            queued_.store(queue_.size());
             execute(task, lock);
         }
     }
@@ -77,12 +87,13 @@ private:
         {
             std::lock_guard<std::mutex> lock(mutex_);
             stop_ = true;
+            stop_flag_.store(true);
         }
         cv_.notify_all();
         for (std::thread& t : threads_) t.join();
     }
 
-    /// Runs `task` with the lock released, then wakes every waiter (one may wait for its group).
+    /// Runs `task` with the lock released, then wakes every sleeper (one may wait for its group).
     void execute(Task& task, std::unique_lock<std::mutex>& lock)
     {
         lock.unlock();
@@ -90,25 +101,58 @@ private:
         task.fn = nullptr; // the task's captures go before its group is seen as done
         lock.lock();
         task.group->pending_.fetch_sub(1);
-        cv_.notify_all();
+        if (sleepers_ > 0) cv_.notify_all();
+    }
+
+    /// Returns (holding the lock) once `ready` may hold: polls it without the lock for up to
+    /// spin_for, then sleeps until woken. `ready` reads atomics only, so it may run unlocked; it
+    /// is read again under the lock before sleeping, and every change it waits for is made under
+    /// the lock, which then wakes the sleepers: no wake-up is lost.
+    template <class Ready> void idle(std::unique_lock<std::mutex>& lock, Ready ready)
+    {
+        lock.unlock();
+        auto until = std::chrono::steady_clock::now() + spin_for;
+        bool done = false;
+        for (int k = 0; !done; ++k) {
+            done = ready();
+            if (!done && (k & 63) == 63 && std::chrono::steady_clock::now() >= until) break;
+#if defined(__x86_64__) || defined(__i386__)
+            __builtin_ia32_pause();
+#endif
+        }
+        lock.lock();
+        if (done || ready()) return;
+        ++sleepers_;
+        cv_.wait(lock);
+        --sleepers_;
     }
 
     void work()
     {
         std::unique_lock<std::mutex> lock(mutex_);
         for (;;) {
-            cv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
-            if (queue_.empty()) return; // stop_
+            if (stop_) return;
+            if (queue_.empty()) {
+                idle(lock, [this] { return stop_flag_.load() || queued_.load() > 0; });
+                continue;
+            }
             Task task = std::move(queue_.front());
             queue_.pop_front();
+            queued_.store(queue_.size());
             execute(task, lock);
         }
     }
 
+    /// How long an idle thread polls before it sleeps: a build's next task comes within it.
+    static constexpr std::chrono::microseconds spin_for{100};
+
     std::mutex mutex_;
     std::condition_variable cv_;
     std::deque<Task> queue_;
+    std::atomic<std::size_t> queued_{0}; ///< queue_.size(), for the unlocked polls
+    unsigned sleepers_ = 0;              ///< threads in cv_.wait (under mutex_)
     bool stop_ = false;
+    std::atomic<bool> stop_flag_{false}; ///< stop_, for the unlocked polls
     std::vector<std::thread> threads_;
 };
 
