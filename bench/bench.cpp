@@ -48,7 +48,7 @@ nlohmann::json parameters_json(const Context& ctx)
             {"brute_repeat", brute_repeat},
             {"brute_max_triangles", brute_max_triangles},
             {"brute_max_tests", config.quick ? brute_max_tests_quick : brute_max_tests_full},
-            {"builds", config.quick ? 2 : 3},
+            {"builds", config.quick ? builds_quick : builds_full},
             {"single_build_above_triangles", single_build_above},
             {"closeup", "framing eye moved to " + fmt("%.2f", closeup_fraction) +
                             " x the framing distance; near " + fmt("%.2f", closeup_near_fraction) +

@@ -29,6 +29,11 @@ constexpr double brute_max_tests_full = 6e7;
 constexpr double brute_max_tests_quick = 2.5e7;
 /// Timed brute-force frames at most (each may take a second).
 constexpr int brute_repeat = 3;
+/// Timed BVH builds per builder and pass (alternating, see make_renderers): on this VM a build
+/// of 1M triangles spreads over 2x from one to the next (its page faults' cost varies), so the
+/// full sweep takes five for a steadier median.
+constexpr int builds_full = 5;
+constexpr int builds_quick = 2;
 /// Scenes above this many triangles get one timed BVH build per builder (each takes seconds).
 constexpr std::size_t single_build_above = 1u << 20;
 /// Without --repeat, each renderer stops timing a point once its timed frames add up to this

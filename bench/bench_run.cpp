@@ -387,7 +387,7 @@ void run_views(Context& ctx, const Workload& w, std::vector<Point>& points, Prog
         return;
     }
     const std::size_t triangles = scene->triangle_count();
-    const int builds = triangles > single_build_above ? 1 : ctx.config.quick ? 2 : 3;
+    const int builds = triangles > single_build_above ? 1 : ctx.config.quick ? builds_quick : builds_full;
     Renderers r;
     make_renderers(ctx, w, *scene, builds, r, progress);
     for (const auto& v : w.views) {
