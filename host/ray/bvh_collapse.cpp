@@ -76,7 +76,8 @@ Bvh4 collapse_bvh4(const Bvh& bvh, bool aligned)
 {
     Bvh4 out;
     if (bvh.nodes.empty()) return out;
-    out.nodes.reserve(bvh.nodes.size() / 2 + 1); // at most one per interior node: never moved, the unused room never touched
+    // At most one per interior node: never moved, and the room left unused is never touched.
+    out.nodes.reserve(bvh.nodes.size() / 2 + 1);
     out.source.reserve(out.nodes.capacity() * 4);
     const clvis_bvh_node& root = bvh.nodes[0];
     if (root.count > 0) { // a single leaf: one 4-wide node with one child

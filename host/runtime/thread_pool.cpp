@@ -86,8 +86,7 @@ private:
     {
         {
             std::lock_guard<std::mutex> lock(mutex_);
-            stop_ = true;
-            stop_flag_.store(true);
+            stop_.store(true);
         }
         cv_.notify_all();
         for (std::thread& t : threads_) t.join();
@@ -133,7 +132,7 @@ private:
         for (;;) {
             if (stop_) return;
             if (queue_.empty()) {
-                idle(lock, [this] { return stop_flag_.load() || queued_.load() > 0; });
+                idle(lock, [this] { return stop_.load() || queued_.load() > 0; });
                 continue;
             }
             Task task = std::move(queue_.front());
@@ -151,8 +150,7 @@ private:
     std::deque<Task> queue_;
     std::atomic<std::size_t> queued_{0}; ///< queue_.size(), for the unlocked polls
     unsigned sleepers_ = 0;              ///< threads in cv_.wait (under mutex_)
-    bool stop_ = false;
-    std::atomic<bool> stop_flag_{false}; ///< stop_, for the unlocked polls
+    std::atomic<bool> stop_{false};      ///< set under mutex_, also read by the unlocked polls
     std::vector<std::thread> threads_;
 };
 
