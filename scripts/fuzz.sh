@@ -12,8 +12,13 @@ cd "$(dirname "$0")/.."
 seconds=${1:-48}
 jobs=${JOBS:-$(nproc)}
 
+launcher=()
+if command -v ccache >/dev/null; then  # as scripts/test.sh: a second run rebuilds only what changed
+  export CCACHE_BASEDIR=$(pwd)
+  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+fi
 # -O2 with line tables only (-g1): full debug information only slowed the build.
-cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" \
       "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" \
       -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCLVIS_FUZZ=ON \
       -DCLVIS_BUILD_TESTS=OFF -DCLVIS_BUILD_CLI=OFF -DCLVIS_WITH_IMAGE_IO=OFF \

@@ -35,6 +35,12 @@ endif()
 consume(consumer ${SOURCE_DIR}/tests/consumer)
 run(${work}/consumer/opencl_first ${MESH})
 run(${work}/consumer/clvis_first ${MESH})
+# The build tree is a package as well (export() in the top CMakeLists.txt): clvis_DIR=<build>.
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${work}/consumer-build-tree -G Ninja
+    -DCMAKE_BUILD_TYPE=Release -Dclvis_DIR=${BUILD_DIR} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
+run(${CMAKE_COMMAND} --build ${work}/consumer-build-tree)
+run(${work}/consumer-build-tree/clvis_first ${MESH})
+
 find_program(CLANGXX clang++)
 if(CLANGXX)
   consume(consumer-clang ${SOURCE_DIR}/tests/consumer -DCMAKE_CXX_COMPILER=${CLANGXX})

@@ -9,25 +9,6 @@
 
 namespace clvis::detail {
 
-namespace {
-
-/// Writes `bytes` to `file` through a temporary beside it, so that a reader (another process
-/// building the same program) never sees half a file. Failures leave the cache as it was.
-void write_atomically(const std::filesystem::path& file, const unsigned char* bytes, std::size_t size)
-{
-    std::error_code ec;
-    std::filesystem::create_directories(file.parent_path(), ec);
-    std::filesystem::path tmp = file;
-    tmp += ".tmp";
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) return;
-    out.write(reinterpret_cast<const char*>(bytes), std::streamsize(size));
-    out.close();
-    if (out) std::filesystem::rename(tmp, file, ec);
-    else std::filesystem::remove(tmp, ec);
-}
-
-} // namespace
 
 ProgramCache::ProgramCache(const std::string& name, const std::string& key, bool driver_caches)
     : driver_caches_(driver_caches)
@@ -60,13 +41,13 @@ void ProgramCache::built(const cl::Program& program) const
         seen.replace_extension(".seen");
         std::error_code ec;
         if (!std::filesystem::exists(seen, ec)) {
-            write_atomically(seen, nullptr, 0);
+            write_cache_file(seen, nullptr, 0);
             return;
         }
     }
     try {
         auto binaries = program.getInfo<CL_PROGRAM_BINARIES>();
-        if (!binaries.empty() && !binaries[0].empty()) write_atomically(binary_, binaries[0].data(), binaries[0].size());
+        if (!binaries.empty() && !binaries[0].empty()) write_cache_file(binary_, binaries[0].data(), binaries[0].size());
     } catch (const cl::Error&) {
         // The cache is an optimisation: a driver that will not hand out its binary builds from
         // source next time.

@@ -94,29 +94,17 @@ std::optional<TuneResult> read_cached(const std::filesystem::path& file, const T
 /// leaves the cache as it was.
 void write_cached(const std::filesystem::path& file, const TuneRequest& request, const TuneResult& result)
 {
-    std::error_code ec;
-    std::filesystem::create_directories(file.parent_path(), ec);
-    std::filesystem::path tmp = file;
-    std::random_device random;
-    tmp += ".tmp-" + std::to_string(random()) + std::to_string(random());
-    {
-        std::ofstream out(tmp);
-        out << file_magic << "\nname " << request.name << "\n";
-        for (const auto& [field, value] : request.key) out << "key " << one_line(field) << " " << one_line(value) << "\n";
-        out << "choice " << result.choice << "\n";
-        char ms[32];
-        for (const TuneTime& t : result.times) {
-            std::snprintf(ms, sizeof ms, "%.17g", t.ms);
-            out << "time " << t.candidate << " " << ms << "\n";
-        }
-        out.close();
-        if (!out) {
-            std::filesystem::remove(tmp, ec);
-            return;
-        }
+    std::ostringstream out;
+    out << file_magic << "\nname " << request.name << "\n";
+    for (const auto& [field, value] : request.key) out << "key " << one_line(field) << " " << one_line(value) << "\n";
+    out << "choice " << result.choice << "\n";
+    char ms[32];
+    for (const TuneTime& t : result.times) {
+        std::snprintf(ms, sizeof ms, "%.17g", t.ms);
+        out << "time " << t.candidate << " " << ms << "\n";
     }
-    std::filesystem::rename(tmp, file, ec);
-    if (ec) std::filesystem::remove(tmp, ec);
+    const std::string text = out.str();
+    write_cache_file(file, text.data(), text.size());
 }
 
 TuneResult measure_all(const TuneRequest& request)
