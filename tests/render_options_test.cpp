@@ -1,6 +1,7 @@
-// The option enums' names (render_options.hpp, and shading.hpp's ShadeMode): every value round-trips through to_string and its
-// *_from_string, option_names<E>() lists them in declaration order, and an unknown name is refused
-// with Error(InvalidArgument) naming the option, the accepted names and the value given.
+// The option enums' names (render_options.hpp, and shading.hpp's ShadeMode): every value
+// round-trips through to_string and its *_from_string, option_names<E>() lists them in
+// declaration order, and an unknown name is refused with Error(InvalidArgument) naming the
+// option, the accepted names and the value given.
 #include "catch.hpp"
 
 #include <clvis/error.hpp>

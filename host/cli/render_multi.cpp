@@ -117,7 +117,8 @@ void render_multi_device(const SpreadRequest& r, Path path)
     const Camera& camera = r.cameras.front();
     if (r.repeat > 0) renderer.render(camera, r.width, r.height, path, o); // warm-up: first launches compile
     std::vector<MultiDeviceFrame> frames;
-    for (int i = 0; i < std::max(r.repeat, 1); ++i) frames.push_back(renderer.render(camera, r.width, r.height, path, o));
+    for (int i = 0; i < std::max(r.repeat, 1); ++i)
+        frames.push_back(renderer.render(camera, r.width, r.height, path, o));
     write_files(r, frames.back());
     report(r, path, frames);
 }

@@ -85,7 +85,8 @@ void bind_multi_device(nb::module_& m)
         [](PyMultiRenderer* self, const std::vector<Device>& devices, PyScene& scene, const nb::kwargs& options) {
             // samples > 1: the C++ MultiDeviceRenderer refuses it, naming it.
             const RenderOptions o = render_options(options, "MultiDeviceRenderer");
-            unlocked(scene.lock, [&] { new (self) PyMultiRenderer{MultiDeviceRenderer(devices, scene.scene, o), {}, {}}; });
+            unlocked(scene.lock,
+                     [&] { new (self) PyMultiRenderer{MultiDeviceRenderer(devices, scene.scene, o), {}, {}}; });
         },
         nb::sig(options_signature("devices: collections.abc.Sequence[Device], scene: Scene")), nb::arg("devices"),
         nb::arg("scene"), nb::arg("options"));

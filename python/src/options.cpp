@@ -78,7 +78,8 @@ RenderOptions render_options(const nb::kwargs& given, const char* what)
         const Keyword* k = nullptr;
         for (const Keyword& candidate : keywords())
             if (candidate.name == name) k = &candidate;
-        if (!k) throw nb::type_error((std::string(what) + "() got an unexpected keyword argument '" + name + "'").c_str());
+        if (!k)
+            throw nb::type_error((std::string(what) + "() got an unexpected keyword argument '" + name + "'").c_str());
         k->set(o, value);
     }
     return o;
