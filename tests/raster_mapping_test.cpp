@@ -123,6 +123,6 @@ TEST_CASE("raster mappings are named auto, square and pixel, others refused")
     CHECK(raster_mapping_from_string("square") == RasterMapping::Square);
     CHECK(raster_mapping_from_string("pixel") == RasterMapping::Pixel);
     CHECK(std::string(to_string(RasterMapping::Pixel)) == "pixel");
-    CHECK_THROWS_WITH(raster_mapping_from_string("tiles"), Catch::Contains("auto, square or pixel"));
+    CHECK_THROWS_WITH(raster_mapping_from_string("tiles"), Catch::Contains("auto, square, pixel"));
     CHECK(RenderOptions{}.raster_mapping == RasterMapping::Auto);
 }

@@ -103,7 +103,7 @@ TEST_CASE("coverage modes have names and unknown names are refused")
     CHECK(coverage_from_string("raster-rule") == Coverage::RasterRule);
     CHECK(coverage_from_string("watertight") == Coverage::Watertight);
     CHECK(RenderOptions{}.coverage == Coverage::Watertight);
-    CHECK_THROWS_WITH(coverage_from_string("raster"), Catch::Contains("unknown coverage 'raster'"));
+    CHECK_THROWS_WITH(coverage_from_string("raster"), Catch::Contains("coverage: expected one of watertight, raster-rule, got 'raster'"));
 }
 
 TEST_CASE("raster-rule rays equal the raster path on unseen soups and cameras", "[device][rule]")

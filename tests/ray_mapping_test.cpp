@@ -189,6 +189,6 @@ TEST_CASE("ray mappings are named auto, packet and single, others refused")
     CHECK(ray_mapping_from_string("packet") == RayMapping::Packet);
     CHECK(ray_mapping_from_string("single") == RayMapping::Single);
     CHECK(std::string(to_string(RayMapping::Single)) == "single");
-    CHECK_THROWS_WITH(ray_mapping_from_string("pixel"), Catch::Contains("auto, packet or single"));
+    CHECK_THROWS_WITH(ray_mapping_from_string("pixel"), Catch::Contains("auto, packet, single"));
     CHECK(RenderOptions{}.ray_mapping == RayMapping::Auto);
 }

@@ -4,6 +4,8 @@
 
 #include "bench.hpp"
 
+#include "shared/raster.h"
+
 #include <memory>
 
 namespace clvis::cli {
@@ -48,7 +50,7 @@ void add_bench_command(CLI::App& app)
                                   "Embree and llvmpipe doing the same views; frames per second and batch / kernels")
                       ->check(CLI::Range(1, 4096));
     cmd->add_option("--view-size", c.view_size, "width and height of the --views views (default 256)")
-        ->check(CLI::Range(1, 16384))
+        ->check(CLI::Range(1, CLVIS_MAX_IMAGE_SIZE))
         ->needs(views);
     views->excludes(cmd->get_option("--rays"));
     cmd->callback([args] {

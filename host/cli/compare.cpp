@@ -29,7 +29,7 @@ struct CompareArgs {
     SceneInput scene;
     CameraOptions camera;
     std::string depths; ///< "A.exr,B.exr"
-    std::string cull = "none";
+    Cull cull = Cull::None;
     bool all = false;
     bool differing_only = false;
     bool json = false;
@@ -51,8 +51,7 @@ void add_options(CLI::App& app, CompareArgs& a)
     a.scene.add_to(app);
     a.camera.add_to(app);
     app.add_option("--depths", a.depths, "A.exr,B.exr: the two depth buffers, judged too");
-    app.add_option("--cull", a.cull, "the face culling the buffers were rendered with: none, back or front")
-        ->check(CLI::IsMember({"none", "back", "front"}));
+    add_choice(app, "--cull", a.cull, "the face culling the buffers were rendered with: none, back or front");
     app.add_flag("--differing-only", a.differing_only,
                  "judge only the pixels where the buffers differ (the others count as equal unjudged)");
     app.add_flag("--all", a.all, "judge every pixel of both buffers (the default)");
@@ -141,7 +140,7 @@ int run_compare(const CompareArgs& args)
         in = read_inputs(args);
         if (args.all && args.differing_only) unusable("--all and --differing-only exclude each other");
         RenderOptions render;
-        render.cull = args.cull == "back" ? Cull::Back : args.cull == "front" ? Cull::Front : Cull::None;
+        render.cull = args.cull;
         Referee referee(in.file.scene, in.camera, in.a.width, in.a.height, render);
         CompareOptions options;
         options.differing_only = args.differing_only;
@@ -161,7 +160,7 @@ int run_compare(const CompareArgs& args)
                             {"samples", in.a.samples},
                             {"triangles", in.file.scene.triangle_count()},
                             {"camera", in.camera.to_flags()},
-                            {"cull", args.cull},
+                            {"cull", to_string(args.cull)},
                             {"differing_only", args.differing_only},
                             {"pixels", r.pixels},
                             {"judged", r.judged},

@@ -61,4 +61,15 @@ struct SceneInput {
 /// True when `path` names a scene file (.json, any case).
 bool is_scene_file(const std::string& path);
 
+/// `flag` taking a name of the option enum E (option_names<E>(), the library's one table) into
+/// `value`; CLI11 refuses any other name, naming the flag and the names.
+template <class E>
+CLI::Option* add_choice(CLI::App& app, const std::string& flag, E& value, const std::string& help)
+{
+    return app
+        .add_option_function<std::string>(
+            flag, [&value](const std::string& name) { value = option_from_string<E>(name); }, help)
+        ->check(CLI::IsMember(option_names<E>()));
+}
+
 } // namespace clvis::cli

@@ -11,8 +11,6 @@
 #include <clvis/clvis.hpp>
 #include <clvis/views_file.hpp>
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
@@ -28,15 +26,15 @@ struct RenderArgs {
     SceneInput scene;
     CameraOptions camera;
     DeviceOptions device;
-    std::string path = "raster", raster_mapping = "auto", ray_mapping = "auto"; ///< RenderOptions' mappings
-    std::string ids, depth, image, shade = "lambert", cull = "none", raster_atomics = "auto";
-    std::string coverage = "watertight"; ///< the ray paths' inside test (RenderOptions::coverage)
+    std::string path = "raster"; ///< raster, ray, brute or all
+    RenderOptions options;       ///< --tile, --cull, --samples, the mappings, --leaf-size, --coverage
+    std::string ids, depth, image;
+    ShadeMode shade = ShadeMode::Lambert;
     std::string bary, normals, position; ///< attributes resolved from the buffer (EXR)
     std::string visible;                 ///< the visible set: ids, one per line, ascending
     std::string views;                   ///< a views file: many cameras, one batch
-    int samples = 1; ///< samples per pixel (RenderOptions::samples)
     int ao = 0; ///< rays per pixel of the ambient-occlusion image; 0: a shaded image
-    int tile = 0, leaf = 4, repeat = 0;
+    int repeat = 0;
     bool json = false, quiet = false;
     bool timings = false; ///< --timings: what the first frame costs, phase by phase
     int width = 0, height = 0; ///< the image size, once resolved
@@ -109,17 +107,6 @@ void write_visible(Renderer& renderer, const VisibilityBuffer& vis, const std::s
     if (std::fclose(f) != 0) throw Error(Error::Kind::Io, file + ": write failed");
 }
 
-struct PathResult {
-    Path path;
-    std::vector<double> samples;
-    FrameTiming fastest;
-    double build_ms = 0;
-    BvhStats bvh;
-    HostVisibility vis;
-    /// Host wall time of prepare() (programs; BVH for ray) and of the first render() (-1: none).
-    double prepare_ms = 0, first_frame_ms = -1;
-};
-
 using NameFn = std::function<std::string(const std::string&)>;
 
 /// Every file one visibility buffer gives: ids, depth, image, attributes and the visible set,
@@ -142,7 +129,7 @@ void write_outputs(Renderer& renderer, const VisibilityBuffer& vis, const Camera
     if (!a.depth.empty()) write_depth(file_name(a.depth), host);
     if (!a.image.empty()) {
         ShadeOptions so;
-        so.mode = a.shade == "depth" ? ShadeMode::Depth : a.shade == "ids" ? ShadeMode::Ids : ShadeMode::Lambert;
+        so.mode = a.shade;
         write_image(file_name(a.image),
                     a.ao > 0 ? ao_image(renderer, vis, camera, a.ao, a.quiet) : shade(renderer, vis, camera, so));
     }
@@ -202,7 +189,7 @@ PathResult run_path(Renderer& renderer, const std::vector<Camera>& cameras, cons
     VisibilityBatch views;
     VisibilityBuffer vis;
     if (batch) views = VisibilityBatch(renderer.device(), int(cameras.size()), width, height);
-    else vis = VisibilityBuffer(renderer.device(), width, height, a.samples);
+    else vis = VisibilityBuffer(renderer.device(), width, height, a.options.samples);
     auto frame = [&] {
         if (batch) render_views(renderer, cameras, path, views);
         else renderer.render(cameras[0], path, vis);
@@ -236,135 +223,6 @@ PathResult run_path(Renderer& renderer, const std::vector<Camera>& cameras, cons
     return r;
 }
 
-/// The summary line of one path on standard error.
-std::string path_line(const PathResult& r)
-{
-    std::string line = std::string("clvis: ") + to_string(r.path) + ": ";
-    char buf[128];
-    if (r.first_frame_ms >= 0)
-        std::snprintf(buf, sizeof buf, "frame %.2f ms min, %.2f ms median of %zu after a warm-up",
-                      *std::min_element(r.samples.begin(), r.samples.end()), bench::median_of(r.samples), r.samples.size());
-    else
-        std::snprintf(buf, sizeof buf, "frame %.2f ms (first frame: includes the driver's first-launch "
-                                       "compilation; --repeat N times warm frames)", r.samples[0]);
-    line += buf;
-    if (!r.fastest.stages_measured) line += "; stage times absent (queue without profiling)";
-    for (const auto& st : r.fastest.stages) {
-        std::snprintf(buf, sizeof buf, "; %s %.2f", st.name.c_str(), st.ms);
-        line += buf;
-    }
-    if (r.path == Path::Ray) {
-        std::snprintf(buf, sizeof buf, "; BVH %zu nodes built in %.1f ms", r.bvh.nodes, r.build_ms);
-        line += buf;
-    }
-    return line;
-}
-
-/// --timings: what a one-off render paid on the host before each path's first frame: Device::open
-/// (platform, context, queue), the Renderer (scene upload), then per path prepare and the frames.
-std::string first_frame_line(double open_ms, double renderer_ms, const std::vector<PathResult>& results)
-{
-    char buf[200];
-    std::snprintf(buf, sizeof buf, "clvis: first frame: device open %.1f ms, renderer (upload) %.1f ms", open_ms,
-                  renderer_ms);
-    std::string line = buf;
-    for (const auto& r : results) {
-        std::snprintf(buf, sizeof buf, "; %s: prepare (programs%s) %.1f ms, first frame %.1f ms, next %.2f ms",
-                      to_string(r.path), r.path == Path::Ray ? ", BVH" : "", r.prepare_ms, r.first_frame_ms,
-                      bench::median_of(r.samples));
-        line += buf;
-    }
-    return line;
-}
-
-nlohmann::json first_frame_json(double open_ms, double renderer_ms, const std::vector<PathResult>& results)
-{
-    nlohmann::json paths = nlohmann::json::array();
-    for (const auto& r : results)
-        paths.push_back({{"path", to_string(r.path)},
-                         {"prepare_ms", r.prepare_ms},
-                         {"first_frame_ms", r.first_frame_ms},
-                         {"next_frame_ms", bench::median_of(r.samples)}});
-    return {{"device_open_ms", open_ms}, {"renderer_ms", renderer_ms}, {"paths", paths}};
-}
-
-/// The referee's verdict on raster against ray, said on standard error and returned as JSON.
-template <class Say>
-nlohmann::json compare_paths(const SceneFile& file, const Camera& camera, const RenderArgs& a,
-                             const RenderOptions& options, const std::vector<PathResult>& results, Say say)
-{
-    Referee referee(file.scene, camera, a.width, a.height, options);
-    CompareReport rep = referee.compare(results[0].vis, results[1].vis);
-    char buf[320];
-    std::snprintf(buf, sizeof buf, "clvis: raster vs ray: %zu pixels, %zu equal, %zu explained, %zu errors "
-                                   "(raster %zu, ray %zu); depths %zu equal, %zu explained, %zu errors "
-                                   "(raster %zu, ray %zu)",
-                  rep.pixels, rep.equal, rep.explained, rep.errors, rep.errors_a, rep.errors_b, rep.depth_equal,
-                  rep.depth_explained, rep.depth_errors, rep.depth_errors_a, rep.depth_errors_b);
-    say(buf);
-    for (const auto& e : rep.first_errors) say("  " + e.describe());
-    nlohmann::json depths = {{"equal", rep.depth_equal}, {"explained", rep.depth_explained}, {"errors", rep.depth_errors},
-                             {"errors_raster", rep.depth_errors_a}, {"errors_ray", rep.depth_errors_b}};
-    return {{"pixels", rep.pixels}, {"equal", rep.equal}, {"explained", rep.explained}, {"errors", rep.errors},
-            {"errors_raster", rep.errors_a}, {"errors_ray", rep.errors_b}, {"depths", depths}};
-}
-
-nlohmann::json path_json(const PathResult& r)
-{
-    return nlohmann::json{{"path", to_string(r.path)},
-                          {"frame_ms", {{"min", *std::min_element(r.samples.begin(), r.samples.end())},
-                                        {"median", bench::median_of(r.samples)},
-                                        {"samples", r.samples}}},
-                          {"stages_ms", stages_json(r.fastest)},
-                          {"build_ms", r.build_ms},
-                          {"bvh_nodes", r.bvh.nodes}};
-}
-
-/// --json: one object on standard output.
-nlohmann::json render_json(const RenderArgs& a, const SceneFile& file, const Camera& camera, Renderer& renderer,
-                           double load_ms, const std::vector<PathResult>& results, const nlohmann::json& compare_json)
-{
-    bool several = results.size() > 1;
-    nlohmann::json j = several ? nlohmann::json{{"path", "all"}} : path_json(results[0]);
-    j["triangles"] = file.scene.triangle_count();
-    j["width"] = a.width;
-    j["height"] = a.height;
-    const DeviceInfo& device = renderer.device().info();
-    j["device"] = device.name;
-    // The raster path's depth test as Auto resolves it (RasterPipeline: atomics where offered).
-    j["raster_atomics"] = a.raster_atomics != "auto" ? a.raster_atomics : device.int64_atomics ? "on" : "off";
-    bool raster = std::any_of(results.begin(), results.end(), [](const PathResult& r) { return r.path == Path::Raster; });
-    add_raster_mapping_json(j, raster ? &renderer : nullptr, a.raster_mapping);
-    bool ray = std::any_of(results.begin(), results.end(), [](const PathResult& r) { return r.path == Path::Ray; });
-    add_ray_mapping_json(j, ray ? &renderer : nullptr, a.ray_mapping);
-    j["load_ms"] = load_ms;
-    j["warm_up"] = a.repeat > 0 || a.timings;
-    j["camera"] = camera.to_flags();
-    j["coverage"] = a.coverage;
-    j["samples"] = a.samples;
-    if (several) {
-        j["build_ms"] = results[1].build_ms;
-        j["results"] = nlohmann::json::array();
-        for (const auto& r : results) j["results"].push_back(path_json(r));
-        j["compare"] = compare_json;
-    }
-    return j;
-}
-
-RenderOptions render_options(const RenderArgs& a)
-{
-    RenderOptions options;
-    options.tile_size = a.tile;
-    options.cull = a.cull == "back" ? Cull::Back : a.cull == "front" ? Cull::Front : Cull::None;
-    options.raster_atomics = raster_atomics_from_string(a.raster_atomics);
-    options.raster_mapping = raster_mapping_from_string(a.raster_mapping);
-    options.ray_mapping = ray_mapping_from_string(a.ray_mapping);
-    options.bvh.max_leaf_size = a.leaf;
-    options.coverage = coverage_from_string(a.coverage);
-    options.samples = a.samples;
-    return options;
-}
-
 void render_command(RenderArgs a)
 {
     check_outputs(a);
@@ -384,11 +242,28 @@ void render_command(RenderArgs a)
     if (cameras.empty()) cameras.push_back(camera);
     if (file.scene.empty()) throw Error(Error::Kind::InvalidArgument, "the scene holds no triangles");
     if (a.ao > 0 && a.image.empty()) throw Error(Error::Kind::InvalidArgument, "--ao: needs --image FILE to write");
-    if (a.samples != 1 && (a.ao > 0 || a.spread.any() || !a.views.empty()))
+    if (a.options.samples != 1 && (a.ao > 0 || a.spread.any() || !a.views.empty()))
         throw Error(Error::Kind::InvalidArgument, "--samples: --ao, --views, --devices, --distribute draw 1 per pixel");
-    if (a.spread.any())
-        return render_spread(a.spread, {a.path, a.views, a.image, a.device.spec, &file, load_ms, cameras, a.width,
-                                        a.height, render_options(a), a.ids, a.depth, a.repeat, a.json, a.quiet});
+    if (a.spread.any()) {
+        SpreadRequest request;
+        request.spread = a.spread;
+        request.path = a.path;
+        request.views = a.views;
+        request.image = a.image;
+        request.device_spec = a.device.spec;
+        request.file = &file;
+        request.load_ms = load_ms;
+        request.cameras = cameras;
+        request.width = a.width;
+        request.height = a.height;
+        request.options = a.options;
+        request.ids = a.ids;
+        request.depth = a.depth;
+        request.repeat = a.repeat;
+        request.json = a.json;
+        request.quiet = a.quiet;
+        return render_spread(request);
+    }
     std::vector<Path> paths;
     if (a.path == "all" && !a.views.empty())
         throw Error(Error::Kind::InvalidArgument, "--views: renders one path (--path raster, ray or brute), not all");
@@ -407,7 +282,7 @@ void render_command(RenderArgs a)
         device.info().name);
     if (a.views.empty() && view.framed) say("clvis: framing camera: " + camera.to_flags());
     auto t_renderer = std::chrono::steady_clock::now();
-    Renderer renderer(device, file.scene, render_options(a));
+    Renderer renderer(device, file.scene, a.options);
     const double renderer_ms = bench::ms_since(t_renderer);
 
     std::vector<PathResult> results;
@@ -417,15 +292,28 @@ void render_command(RenderArgs a)
         say(path_line(results.back()));
     }
     if (a.timings) say(first_frame_line(open_ms, renderer_ms, results));
-    nlohmann::json compare_json;
-    if (several) compare_json = compare_paths(file, camera, a, render_options(a), results, say);
-    if (a.json) {
-        nlohmann::json j = render_json(a, file, camera, renderer, load_ms, results, compare_json);
-        if (a.timings) j["first_frame"] = first_frame_json(open_ms, renderer_ms, results);
-        std::cout << j.dump(2) << "\n";
+    CompareReport verdict;
+    if (several) {
+        verdict = Referee(file.scene, camera, a.width, a.height, a.options).compare(results[0].vis, results[1].vis);
+        for (const std::string& line : compare_lines(verdict)) say(line);
     }
-    if (several && (compare_json["errors"].get<std::size_t>() > 0 ||
-                    compare_json["depths"]["errors"].get<std::size_t>() > 0)) {
+    if (a.json) {
+        RenderJson run;
+        run.triangles = file.scene.triangle_count();
+        run.width = a.width;
+        run.height = a.height;
+        run.options = a.options;
+        run.load_ms = load_ms;
+        run.warm_up = a.repeat > 0 || a.timings;
+        run.camera = camera.to_flags();
+        run.compare = several ? &verdict : nullptr;
+        if (a.timings) {
+            run.open_ms = open_ms;
+            run.renderer_ms = renderer_ms;
+        }
+        std::cout << render_json(run, renderer, results).dump(2) << "\n";
+    }
+    if (several && (verdict.errors > 0 || verdict.depth_errors > 0)) {
         std::cerr << "clvis: the referee rejected ids or depths of a path (see above)\n";
         throw CLI::RuntimeError(exit_rejected); // main returns the status
     }
@@ -442,8 +330,10 @@ void add_render_command(CLI::App& app)
     args->scene.add_to(*cmd);
     args->camera.add_to(*cmd);
     args->device.add_to(*cmd);
+    std::vector<std::string> paths = option_names<Path>();
+    paths.push_back("all");
     cmd->add_option("--path", args->path, "raster, ray, brute, or all (raster and ray, compared by the referee)")
-        ->check(CLI::IsMember({"raster", "ray", "brute", "all"}));
+        ->check(CLI::IsMember(paths));
     cmd->add_option("--ids", args->ids, "write the id buffer (.tif, .tiff, .exr; uint32, background 0xFFFFFFFF)");
     cmd->add_option("--depth", args->depth, "write the view-depth buffer (.exr; float, background +inf)");
     cmd->add_option("--bary", args->bary, "write barycentrics u, v of the visible triangles (.exr; background 0, 0)");
@@ -454,35 +344,30 @@ void add_render_command(CLI::App& app)
                     "render every camera of a views file (JSON) in one batch; {view} in output names is the view");
     cmd->add_option("--visible", args->visible, "write the visible triangle ids, one per line, ascending");
     cmd->add_option("--image", args->image, "write a shaded colour image (.png, .exr, .tif, .jpg, ...)");
-    cmd->add_option("--shade", args->shade, "colour image: lambert, depth or ids")
-        ->check(CLI::IsMember({"lambert", "depth", "ids"}));
+    add_choice(*cmd, "--shade", args->shade, "colour image: lambert, depth or ids");
     cmd->add_option("--ao", args->ao, "with --image: an ambient-occlusion image of N rays per pixel (seeded)")
         ->check(CLI::Range(1, 1024));
     cmd->add_option("--repeat", args->repeat, "render N timed frames after one untimed warm-up")
         ->check(CLI::Range(0, 1000000));
-    cmd->add_option("--samples", args->samples,
+    cmd->add_option("--samples", args->options.samples,
                     "samples per pixel: 1, 2, 4, 8 or 16 at the standard positions (CONVENTIONS.md); the id and "
                     "depth files get channels id0.. and Z0.., the image is their mean");
-    cmd->add_option("--tile", args->tile, "raster tile size in pixels (power of two; 0: default)");
-    cmd->add_option("--cull", args->cull, "face culling: none, back or front")
-        ->check(CLI::IsMember({"none", "back", "front"}));
-    cmd->add_option("--raster-atomics", args->raster_atomics,
-                    "raster depth test: on (64-bit atomics), off (tile ownership, no atomics) or auto (on where "
-                    "the device has 64-bit atomics); the same keys either way")
-        ->check(CLI::IsMember({"auto", "on", "off"}));
-    cmd->add_option("--raster-mapping", args->raster_mapping,
-                    "raster fine stage: square (CPUs), pixel (GPUs) or auto (measured per device, cached); same keys")
-        ->check(CLI::IsMember({"auto", "square", "pixel"}));
-    cmd->add_option("--ray-mapping", args->ray_mapping,
-                    "ray path: packet (a work-item per 4x4 rays, CPUs), single (a work-item per ray, GPUs) or auto "
-                    "(measured per device, cached); same keys")
-        ->check(CLI::IsMember({"auto", "packet", "single"}));
-    cmd->add_option("--leaf-size", args->leaf, "BVH: triangles per leaf at most");
+    RenderOptions& o = args->options;
+    cmd->add_option("--tile", o.tile_size, "raster tile size in pixels (power of two; 0: default)");
+    add_choice(*cmd, "--cull", o.cull, "face culling: none, back or front");
+    add_choice(*cmd, "--raster-atomics", o.raster_atomics,
+               "raster depth test: on (64-bit atomics), off (tile ownership, no atomics) or auto (on where "
+               "the device has 64-bit atomics); the same keys either way");
+    add_choice(*cmd, "--raster-mapping", o.raster_mapping,
+               "raster fine stage: square (CPUs), pixel (GPUs) or auto (measured per device, cached); same keys");
+    add_choice(*cmd, "--ray-mapping", o.ray_mapping,
+               "ray path: packet (a work-item per 4x4 rays, CPUs), single (a work-item per ray, GPUs) or auto "
+               "(measured per device, cached); same keys");
+    cmd->add_option("--leaf-size", o.bvh.max_leaf_size, "BVH: triangles per leaf at most");
     args->spread.add_to(*cmd);
-    cmd->add_option("--coverage", args->coverage,
-                    "ray and brute paths: watertight (the ray test, default) or raster-rule (the raster path's "
-                    "predicate: buffers bit-identical to raster's)")
-        ->check(CLI::IsMember({"watertight", "raster-rule"}));
+    add_choice(*cmd, "--coverage", o.coverage,
+               "ray and brute paths: watertight (the ray test, default) or raster-rule (the raster path's "
+               "predicate: buffers bit-identical to raster's)");
     cmd->add_flag("--json", args->json, "print one JSON object with the timings on standard output");
     cmd->add_flag("--timings", args->timings,
                   "what a one-off render pays before its first frame: device open, renderer (upload), prepare "

@@ -35,25 +35,25 @@ struct RankWork {
     std::size_t triangles = 0; ///< held by this rank
 };
 
-RankWork prepare(DistRequest& r, const Device& device, int rank, int ranks)
+RankWork prepare(const SpreadRequest& r, Path path, const Device& device, int rank, int ranks)
 {
     RankWork w;
-    if (r.mode == "scene") {
-        dist::Share share = dist::share_of(r.file.scene.triangle_count(), rank, ranks);
-        Scene part = dist::scene_part(r.file.scene, share);
-        r.file.scene = Scene(); // this rank holds only its share from here on
+    if (r.spread.distribute == "scene") {
+        dist::Share share = dist::share_of(r.file->scene.triangle_count(), rank, ranks);
+        Scene part = dist::scene_part(r.file->scene, share);
+        r.file->scene = Scene(); // this rank holds only its share from here on
         w.id_base = std::uint32_t(share.first);
         w.triangles = share.size();
         if (share.size() > 0) w.renderer = std::make_unique<Renderer>(device, part, r.options);
     } else {
-        w.triangles = r.file.scene.triangle_count();
-        w.renderer = std::make_unique<Renderer>(device, r.file.scene, r.options);
+        w.triangles = r.file->scene.triangle_count();
+        w.renderer = std::make_unique<Renderer>(device, r.file->scene, r.options);
     }
-    if (w.renderer) w.renderer->prepare(r.path);
+    if (w.renderer) w.renderer->prepare(path);
     return w;
 }
 
-void write_buffers(const DistRequest& r, const std::vector<std::uint64_t>& keys, int view, int last)
+void write_buffers(const SpreadRequest& r, const std::vector<std::uint64_t>& keys, int view, int last)
 {
     if (r.ids.empty() && r.depth.empty()) return;
 #if CLVIS_WITH_IMAGE_IO
@@ -68,32 +68,32 @@ void write_buffers(const DistRequest& r, const std::vector<std::uint64_t>& keys,
 
 /// One distributed frame; with `write`, frames mode writes this rank's views' files (read back
 /// in every frame, so that each frame's rank times hold the same work).
-DistFrame one_frame(const DistRequest& r, RankWork& w, bool write)
+DistFrame one_frame(const SpreadRequest& r, Path path, RankWork& w, bool write)
 {
     DistFrame f;
     MPI_Barrier(MPI_COMM_WORLD);
     auto t0 = std::chrono::steady_clock::now();
     const Camera& camera = r.cameras.front();
-    if (r.mode == "frames") {
+    if (r.spread.distribute == "frames") {
         int last = int(r.cameras.size()) - 1;
         std::vector<std::uint64_t> keys;
-        dist::render_frames(MPI_COMM_WORLD, *w.renderer, r.cameras, r.width, r.height, r.path,
+        dist::render_frames(MPI_COMM_WORLD, *w.renderer, r.cameras, r.width, r.height, path,
                             [&](int view, const VisibilityBuffer& vis) {
                                 vis.read_keys(keys);
                                 if (write) write_buffers(r, keys, view, last);
                             },
                             &f.timing);
-    } else if (r.mode == "scene") {
-        f.keys = dist::render_scene(MPI_COMM_WORLD, w.renderer.get(), w.id_base, camera, r.width, r.height, r.path,
+    } else if (r.spread.distribute == "scene") {
+        f.keys = dist::render_scene(MPI_COMM_WORLD, w.renderer.get(), w.id_base, camera, r.width, r.height, path,
                                     &f.timing);
     } else {
-        f.keys = dist::render_screen(MPI_COMM_WORLD, *w.renderer, camera, r.width, r.height, r.path, &f.timing);
+        f.keys = dist::render_screen(MPI_COMM_WORLD, *w.renderer, camera, r.width, r.height, path, &f.timing);
     }
     f.frame_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return f;
 }
 
-void report(const DistRequest& r, const std::string& device, std::size_t triangles, int ranks,
+void report(const SpreadRequest& r, Path path, const std::string& device, std::size_t triangles, int ranks,
             const std::vector<DistFrame>& frames)
 {
     std::vector<double> samples;
@@ -102,14 +102,14 @@ void report(const DistRequest& r, const std::string& device, std::size_t triangl
                                               [](const DistFrame& a, const DistFrame& b) { return a.frame_ms < b.frame_ms; });
     if (!r.quiet) {
         std::fprintf(stderr, "clvis: %s on %d ranks, %s path, %zu view(s): frame %.2f ms; composite %.2f ms (%zu bytes)\n",
-                     r.mode.c_str(), ranks, to_string(r.path), r.cameras.size(), best.frame_ms,
+                     r.spread.distribute.c_str(), ranks, to_string(path), r.cameras.size(), best.frame_ms,
                      best.timing.composite_ms, best.timing.composite_bytes);
         for (std::size_t k = 0; k < best.timing.rank_ms.size(); ++k)
             std::fprintf(stderr, "clvis:   rank %zu: %.2f ms\n", k, best.timing.rank_ms[k]);
     }
     if (!r.json) return;
-    nlohmann::json j{{"path", to_string(r.path)},
-                     {"distribute", r.mode},
+    nlohmann::json j{{"path", to_string(path)},
+                     {"distribute", r.spread.distribute},
                      {"ranks", ranks},
                      {"triangles", triangles},
                      {"width", r.width},
@@ -127,32 +127,32 @@ void report(const DistRequest& r, const std::string& device, std::size_t triangl
     std::cout << j.dump(2) << "\n";
 }
 
-void run(DistRequest& r)
+void run(const SpreadRequest& r, Path path)
 {
     int rank = 0, ranks = 1;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-    std::size_t triangles = r.file.scene.triangle_count();
+    std::size_t triangles = r.file->scene.triangle_count();
     DeviceOptions device_options;
     device_options.spec = r.device_spec;
     Device device = device_options.open();
-    RankWork w = prepare(r, device, rank, ranks);
-    if (r.repeat > 0) one_frame(r, w, false); // warm-up: first launches compile
+    RankWork w = prepare(r, path, device, rank, ranks);
+    if (r.repeat > 0) one_frame(r, path, w, false); // warm-up: first launches compile
     std::vector<DistFrame> frames;
     int count = std::max(r.repeat, 1);
-    for (int i = 0; i < count; ++i) frames.push_back(one_frame(r, w, i == count - 1));
+    for (int i = 0; i < count; ++i) frames.push_back(one_frame(r, path, w, i == count - 1));
     if (rank != 0) return;
-    if (r.mode != "frames") write_buffers(r, frames.back().keys, 0, 0);
-    report(r, device.info().name, triangles, ranks, frames);
+    if (r.spread.distribute != "frames") write_buffers(r, frames.back().keys, 0, 0);
+    report(r, path, device.info().name, triangles, ranks, frames);
 }
 
 } // namespace
 
-void render_distributed(DistRequest request)
+void render_distributed(const SpreadRequest& request, Path path)
 {
     MPI_Init(nullptr, nullptr);
     try {
-        run(request);
+        run(request, path);
     } catch (const std::exception& e) {
         int rank = 0;
         MPI_Comm_rank(MPI_COMM_WORLD, &rank);

@@ -3,29 +3,13 @@
 // writing the buffers; rank 0 reports each rank's time and the composite's.
 #pragma once
 
-#include <clvis/clvis.hpp>
-
-#include <string>
-#include <vector>
+#include "render_spread.hpp"
 
 namespace clvis::cli {
 
-struct DistRequest {
-    std::string mode;  ///< "frames", "screen" or "scene"
-    SceneFile file;    ///< the whole scene as loaded (scene mode keeps only this rank's share)
-    double load_ms = 0;
-    std::vector<Camera> cameras; ///< frames: the views file's; screen, scene: the one camera
-    int width = 0, height = 0;
-    Path path = Path::Raster;
-    RenderOptions options;
-    std::string device_spec;
-    std::string ids, depth; ///< frames: "{view}" in a name is the view's index
-    int repeat = 0;
-    bool json = false, quiet = false;
-};
-
-/// Initialises MPI, renders, composites on rank 0, finalises. An error on any rank aborts the job
-/// (MPI_Abort) after printing it, so no rank waits forever.
-void render_distributed(DistRequest request);
+/// Renders by `path` as --distribute says (frames: the views file's cameras split by rank; screen,
+/// scene: the one camera). Initialises MPI, renders, composites on rank 0, finalises. An error on
+/// any rank aborts the job (MPI_Abort) after printing it, so no rank waits forever.
+void render_distributed(const SpreadRequest& request, Path path);
 
 } // namespace clvis::cli

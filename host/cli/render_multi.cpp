@@ -52,16 +52,17 @@ Image device_map_image(const MultiDeviceFrame& f)
 }
 #endif
 
-void write_files(const MultiRequest& r, const MultiDeviceFrame& f)
+void write_files(const SpreadRequest& r, const MultiDeviceFrame& f)
 {
-    if (r.ids.empty() && r.depth.empty() && r.device_map.empty()) return;
+    const std::string& device_map = r.spread.device_map;
+    if (r.ids.empty() && r.depth.empty() && device_map.empty()) return;
 #if CLVIS_WITH_IMAGE_IO
     HostVisibility vis = split_keys(f.keys.data(), f.width, f.height);
     if (!r.ids.empty()) write_ids(r.ids, vis);
     if (!r.depth.empty()) write_depth(r.depth, vis);
-    if (!r.device_map.empty()) write_image(r.device_map, device_map_image(f));
+    if (!device_map.empty()) write_image(device_map, device_map_image(f));
     if (r.quiet) return;
-    for (const std::string* file : {&r.ids, &r.depth, &r.device_map})
+    for (const std::string* file : {&r.ids, &r.depth, &device_map})
         if (!file->empty()) std::cerr << "clvis: wrote " << *file << "\n";
 #else
     (void)f;
@@ -69,7 +70,7 @@ void write_files(const MultiRequest& r, const MultiDeviceFrame& f)
 #endif
 }
 
-void report(const MultiRequest& r, const std::vector<MultiDeviceFrame>& frames)
+void report(const SpreadRequest& r, Path path, const std::vector<MultiDeviceFrame>& frames)
 {
     std::vector<double> samples;
     for (const auto& f : frames) samples.push_back(f.frame_ms);
@@ -77,7 +78,7 @@ void report(const MultiRequest& r, const std::vector<MultiDeviceFrame>& frames)
         frames.begin(), frames.end(), [](const MultiDeviceFrame& a, const MultiDeviceFrame& b) { return a.frame_ms < b.frame_ms; });
     if (!r.quiet) {
         std::fprintf(stderr, "clvis: %zu devices, %s path, %d tiles of %d px: frame %.2f ms min, %.2f ms median\n",
-                     best.devices.size(), to_string(r.path), best.tiles, r.screen_tile, best.frame_ms,
+                     best.devices.size(), to_string(path), best.tiles, r.spread.screen_tile, best.frame_ms,
                      bench::median_of(samples));
         for (std::size_t d = 0; d < best.devices.size(); ++d)
             std::fprintf(stderr, "clvis:   device %zu (%s): %d tiles, busy %.2f ms\n", d,
@@ -87,37 +88,39 @@ void report(const MultiRequest& r, const std::vector<MultiDeviceFrame>& frames)
     nlohmann::json devices = nlohmann::json::array();
     for (const auto& d : best.devices)
         devices.push_back({{"device", d.device}, {"tiles", d.tiles}, {"busy_ms", d.busy_ms}});
-    nlohmann::json j{{"path", to_string(r.path)},
+    nlohmann::json j{{"path", to_string(path)},
                      {"triangles", r.file->scene.triangle_count()},
                      {"width", r.width},
                      {"height", r.height},
-                     {"screen_tile", r.screen_tile},
+                     {"screen_tile", r.spread.screen_tile},
                      {"tiles", best.tiles},
                      {"load_ms", r.load_ms},
                      {"frame_ms", {{"min", *std::min_element(samples.begin(), samples.end())},
                                    {"median", bench::median_of(samples)},
                                    {"samples", samples}}},
                      {"devices", devices},
-                     {"camera", r.camera.to_flags()}};
+                     {"camera", r.cameras.front().to_flags()}};
     std::cout << j.dump(2) << "\n";
 }
 
 } // namespace
 
-void render_multi_device(const MultiRequest& r)
+void render_multi_device(const SpreadRequest& r, Path path)
 {
     std::vector<Device> devices;
-    for (const std::string& spec : r.specs) devices.push_back(Device::open(spec));
+    for (const std::string& spec : device_specs(r.spread.devices)) devices.push_back(Device::open(spec));
     MultiDeviceRenderer renderer(devices, r.file->scene, r.options);
-    renderer.prepare(r.path);
+    renderer.prepare(path);
     MultiDeviceOptions o;
-    o.tile = r.screen_tile;
-    o.device_map = !r.device_map.empty();
-    if (r.repeat > 0) renderer.render(r.camera, r.width, r.height, r.path, o); // warm-up: first launches compile
+    o.tile = r.spread.screen_tile;
+    o.device_map = !r.spread.device_map.empty();
+    const Camera& camera = r.cameras.front();
+    if (r.repeat > 0) renderer.render(camera, r.width, r.height, path, o); // warm-up: first launches compile
     std::vector<MultiDeviceFrame> frames;
-    for (int i = 0; i < std::max(r.repeat, 1); ++i) frames.push_back(renderer.render(r.camera, r.width, r.height, r.path, o));
+    for (int i = 0; i < std::max(r.repeat, 1); ++i)
+        frames.push_back(renderer.render(camera, r.width, r.height, path, o));
     write_files(r, frames.back());
-    report(r, frames);
+    report(r, path, frames);
 }
 
 } // namespace clvis::cli

@@ -1,7 +1,67 @@
-// Parts of `clvis render --json` (render_report.hpp).
+// What `clvis render` says of its frames (render_report.hpp): the lines on standard error and the
+// --json object, with the raster and ray mappings that ran (RasterMapping::Auto and
+// RayMapping::Auto resolved).
 #include "render_report.hpp"
 
+#include "bench_stats.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
 namespace clvis::cli {
+
+std::string path_line(const PathResult& r)
+{
+    std::string line = std::string("clvis: ") + to_string(r.path) + ": ";
+    char buf[128];
+    if (r.first_frame_ms >= 0)
+        std::snprintf(buf, sizeof buf, "frame %.2f ms min, %.2f ms median of %zu after a warm-up",
+                      *std::min_element(r.samples.begin(), r.samples.end()), bench::median_of(r.samples), r.samples.size());
+    else
+        std::snprintf(buf, sizeof buf, "frame %.2f ms (first frame: includes the driver's first-launch "
+                                       "compilation; --repeat N times warm frames)", r.samples[0]);
+    line += buf;
+    if (!r.fastest.stages_measured) line += "; stage times absent (queue without profiling)";
+    for (const auto& st : r.fastest.stages) {
+        std::snprintf(buf, sizeof buf, "; %s %.2f", st.name.c_str(), st.ms);
+        line += buf;
+    }
+    if (r.path == Path::Ray) {
+        std::snprintf(buf, sizeof buf, "; BVH %zu nodes built in %.1f ms", r.bvh.nodes, r.build_ms);
+        line += buf;
+    }
+    return line;
+}
+
+std::string first_frame_line(double open_ms, double renderer_ms, const std::vector<PathResult>& results)
+{
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "clvis: first frame: device open %.1f ms, renderer (upload) %.1f ms", open_ms,
+                  renderer_ms);
+    std::string line = buf;
+    for (const auto& r : results) {
+        std::snprintf(buf, sizeof buf, "; %s: prepare (programs%s) %.1f ms, first frame %.1f ms, next %.2f ms",
+                      to_string(r.path), r.path == Path::Ray ? ", BVH" : "", r.prepare_ms, r.first_frame_ms,
+                      bench::median_of(r.samples));
+        line += buf;
+    }
+    return line;
+}
+
+std::vector<std::string> compare_lines(const CompareReport& rep)
+{
+    char buf[320];
+    std::snprintf(buf, sizeof buf, "clvis: raster vs ray: %zu pixels, %zu equal, %zu explained, %zu errors "
+                                   "(raster %zu, ray %zu); depths %zu equal, %zu explained, %zu errors "
+                                   "(raster %zu, ray %zu)",
+                  rep.pixels, rep.equal, rep.explained, rep.errors, rep.errors_a, rep.errors_b, rep.depth_equal,
+                  rep.depth_explained, rep.depth_errors, rep.depth_errors_a, rep.depth_errors_b);
+    std::vector<std::string> lines{buf};
+    for (const auto& e : rep.first_errors) lines.push_back("  " + e.describe());
+    return lines;
+}
+
+namespace {
 
 nlohmann::json stages_json(const FrameTiming& t)
 {
@@ -11,7 +71,35 @@ nlohmann::json stages_json(const FrameTiming& t)
     return s;
 }
 
-namespace {
+nlohmann::json path_json(const PathResult& r)
+{
+    return nlohmann::json{{"path", to_string(r.path)},
+                          {"frame_ms", {{"min", *std::min_element(r.samples.begin(), r.samples.end())},
+                                        {"median", bench::median_of(r.samples)},
+                                        {"samples", r.samples}}},
+                          {"stages_ms", stages_json(r.fastest)},
+                          {"build_ms", r.build_ms},
+                          {"bvh_nodes", r.bvh.nodes}};
+}
+
+nlohmann::json compare_json(const CompareReport& rep)
+{
+    nlohmann::json depths = {{"equal", rep.depth_equal}, {"explained", rep.depth_explained}, {"errors", rep.depth_errors},
+                             {"errors_raster", rep.depth_errors_a}, {"errors_ray", rep.depth_errors_b}};
+    return {{"pixels", rep.pixels}, {"equal", rep.equal}, {"explained", rep.explained}, {"errors", rep.errors},
+            {"errors_raster", rep.errors_a}, {"errors_ray", rep.errors_b}, {"depths", depths}};
+}
+
+nlohmann::json first_frame_json(double open_ms, double renderer_ms, const std::vector<PathResult>& results)
+{
+    nlohmann::json paths = nlohmann::json::array();
+    for (const auto& r : results)
+        paths.push_back({{"path", to_string(r.path)},
+                         {"prepare_ms", r.prepare_ms},
+                         {"first_frame_ms", r.first_frame_ms},
+                         {"next_frame_ms", bench::median_of(r.samples)}});
+    return {{"device_open_ms", open_ms}, {"renderer_ms", renderer_ms}, {"paths", paths}};
+}
 
 /// j[field] = the mapping of `m` (a RasterMappingChoice or RayMappingChoice) with
 /// j[field + "_source"], and j[field + "_ms"] {first, second} when both candidates were measured;
@@ -29,18 +117,44 @@ void put_mapping(nlohmann::json& j, const std::string& field, const std::string&
     if (m->*first_ms >= 0 && m->*second_ms >= 0) j[field + "_ms"] = {{first, m->*first_ms}, {second, m->*second_ms}};
 }
 
-} // namespace
-
-void add_raster_mapping_json(nlohmann::json& j, Renderer* renderer, const std::string& asked)
+bool ran(const std::vector<PathResult>& results, Path path)
 {
-    put_mapping(j, "raster_mapping", asked, renderer ? &renderer->raster_mapping() : nullptr, "square",
-                &RasterMappingChoice::square_ms, "pixel", &RasterMappingChoice::pixel_ms);
+    return std::any_of(results.begin(), results.end(), [path](const PathResult& r) { return r.path == path; });
 }
 
-void add_ray_mapping_json(nlohmann::json& j, Renderer* renderer, const std::string& asked)
+} // namespace
+
+nlohmann::json render_json(const RenderJson& run, Renderer& renderer, const std::vector<PathResult>& results)
 {
-    put_mapping(j, "ray_mapping", asked, renderer ? &renderer->ray_mapping() : nullptr, "packet",
-                &RayMappingChoice::packet_ms, "single", &RayMappingChoice::single_ms);
+    bool several = results.size() > 1;
+    nlohmann::json j = several ? nlohmann::json{{"path", "all"}} : path_json(results[0]);
+    j["triangles"] = run.triangles;
+    j["width"] = run.width;
+    j["height"] = run.height;
+    const DeviceInfo& device = renderer.device().info();
+    j["device"] = device.name;
+    // The raster path's depth test as Auto resolves it (RasterPipeline: atomics where offered).
+    const RasterAtomics atomics = run.options.raster_atomics;
+    j["raster_atomics"] = atomics != RasterAtomics::Auto ? to_string(atomics) : device.int64_atomics ? "on" : "off";
+    put_mapping(j, "raster_mapping", to_string(run.options.raster_mapping),
+                ran(results, Path::Raster) ? &renderer.raster_mapping() : nullptr, "square",
+                &RasterMappingChoice::square_ms, "pixel", &RasterMappingChoice::pixel_ms);
+    put_mapping(j, "ray_mapping", to_string(run.options.ray_mapping),
+                ran(results, Path::Ray) ? &renderer.ray_mapping() : nullptr, "packet", &RayMappingChoice::packet_ms,
+                "single", &RayMappingChoice::single_ms);
+    j["load_ms"] = run.load_ms;
+    j["warm_up"] = run.warm_up;
+    j["camera"] = run.camera;
+    j["coverage"] = to_string(run.options.coverage);
+    j["samples"] = run.options.samples;
+    if (several) {
+        j["build_ms"] = results[1].build_ms;
+        j["results"] = nlohmann::json::array();
+        for (const auto& r : results) j["results"].push_back(path_json(r));
+    }
+    if (run.compare) j["compare"] = compare_json(*run.compare);
+    if (run.open_ms >= 0) j["first_frame"] = first_frame_json(run.open_ms, run.renderer_ms, results);
+    return j;
 }
 
 } // namespace clvis::cli

@@ -1,5 +1,6 @@
-// Parts of `clvis render --json` that say how a frame was made: its stage times and the raster
-// and ray mappings that ran (RasterMapping::Auto and RayMapping::Auto resolved).
+// What `clvis render` (one device, one process) says of its frames: each path's summary line on
+// standard error, the referee's verdict (--path all), the first frame's costs (--timings), and
+// the whole of CONVENTIONS.md's --json object, stage times and resolved mappings included.
 #pragma once
 
 #include <clvis/clvis.hpp>
@@ -7,19 +8,46 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <vector>
 
 namespace clvis::cli {
 
-/// Stage times by name; null when the queue gave none (FrameTiming::stages_measured).
-nlohmann::json stages_json(const FrameTiming& t);
+/// One path's run: its frames' times, its BVH, the buffer read back, what its first frame cost.
+struct PathResult {
+    Path path;
+    std::vector<double> samples;
+    FrameTiming fastest;
+    double build_ms = 0;
+    BvhStats bvh;
+    HostVisibility vis;
+    /// Host wall time of prepare() (programs; BVH for ray) and of the first render() (-1: none).
+    double prepare_ms = 0, first_frame_ms = -1;
+};
 
-/// Sets j["raster_mapping"] to the mapping `renderer` ran, with "raster_mapping_source" (option,
-/// forced, cache or measured) and, when measured, "raster_mapping_ms" {square, pixel}; without a
-/// renderer (the raster path did not run), to `asked` alone.
-void add_raster_mapping_json(nlohmann::json& j, Renderer* renderer, const std::string& asked);
+/// The summary line of one path on standard error.
+std::string path_line(const PathResult& r);
 
-/// The same for the ray path (Path::Ray): "ray_mapping", "ray_mapping_source", "ray_mapping_ms"
-/// {packet, single}.
-void add_ray_mapping_json(nlohmann::json& j, Renderer* renderer, const std::string& asked);
+/// --timings: what a one-off render paid on the host before each path's first frame: Device::open
+/// (platform, context, queue), the Renderer (scene upload), then per path prepare and the frames.
+std::string first_frame_line(double open_ms, double renderer_ms, const std::vector<PathResult>& results);
+
+/// The referee's verdict on raster (a) against ray (b): a summary line, then one per first error.
+std::vector<std::string> compare_lines(const CompareReport& report);
+
+/// What --json says of one render beside its paths' results.
+struct RenderJson {
+    std::size_t triangles = 0;
+    int width = 0, height = 0;
+    RenderOptions options;    ///< as the flags gave them (Auto unresolved)
+    double load_ms = 0;
+    bool warm_up = false;     ///< an untimed frame ran first (--repeat, --timings)
+    std::string camera;       ///< Camera::to_flags()
+    const CompareReport* compare = nullptr; ///< --path all: the referee's verdict
+    /// --timings: Device::open and Renderer construction, host wall ms (negative: not asked)
+    double open_ms = -1, renderer_ms = -1;
+};
+
+/// --json: one object for standard output. `renderer` reports the device and the mappings it ran.
+nlohmann::json render_json(const RenderJson& run, Renderer& renderer, const std::vector<PathResult>& results);
 
 } // namespace clvis::cli

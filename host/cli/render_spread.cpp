@@ -22,8 +22,9 @@ void SpreadArgs::add_to(CLI::App& cmd)
     cmd.add_option("--device-map", device_map, "with --devices: an image of which device drew each tile (.png, ...)");
 }
 
-void render_spread(const SpreadArgs& s, SpreadRun r)
+void render_spread(const SpreadRequest& r)
 {
+    const SpreadArgs& s = r.spread;
     auto refuse = [](const std::string& why) { throw Error(Error::Kind::InvalidArgument, why); };
     if (!s.device_map.empty() && s.devices.empty()) refuse("--device-map: needs --devices SPEC,SPEC,...");
     if (r.path == "all" || !r.image.empty())
@@ -34,15 +35,13 @@ void render_spread(const SpreadArgs& s, SpreadRun r)
     if (!s.devices.empty()) {
         if (!r.views.empty() || !s.distribute.empty() || !r.device_spec.empty())
             refuse("--devices renders one camera; --views, --distribute and --device are not for it");
-        render_multi_device({device_specs(s.devices), r.file, r.load_ms, r.cameras.front(), r.width, r.height, path,
-                             r.options, s.screen_tile, r.ids, r.depth, s.device_map, r.repeat, r.json, r.quiet});
+        render_multi_device(r, path);
         return;
     }
 #if CLVIS_WITH_MPI
     if ((s.distribute == "frames") != !r.views.empty())
         refuse("--distribute frames splits the views of --views FILE; screen and scene share one camera's frame");
-    render_distributed({s.distribute, std::move(*r.file), r.load_ms, r.cameras, r.width, r.height, path, r.options,
-                        r.device_spec, r.ids, r.depth, r.repeat, r.json, r.quiet});
+    render_distributed(r, path);
 #endif
 }
 

@@ -20,21 +20,23 @@ struct SpreadArgs {
     bool any() const { return !distribute.empty() || !devices.empty() || !device_map.empty(); }
 };
 
-/// What the rest of clvis render resolved: flags, scene, cameras and outputs.
-struct SpreadRun {
+/// What clvis render hands to --devices (render_multi.cpp) and --distribute (render_dist.cpp):
+/// the spread flags and what the rest of clvis render resolved, built field by field by name.
+struct SpreadRequest {
+    SpreadArgs spread;
     std::string path, views, image, device_spec; ///< --path, --views, --image, --device as given
-    SceneFile* file = nullptr;                   ///< moved from by --distribute (scene mode keeps a share)
+    SceneFile* file = nullptr; ///< --distribute scene keeps only its rank's share of the scene
     double load_ms = 0;
     std::vector<Camera> cameras; ///< the views file's, else the one camera
     int width = 0, height = 0;
     RenderOptions options;
-    std::string ids, depth;
+    std::string ids, depth; ///< --distribute frames: "{view}" in a name is the view's index
     int repeat = 0;
     bool json = false, quiet = false;
 };
 
 /// Renders on several devices or ranks as the flags say, after refusing (Error(InvalidArgument),
 /// the flag named) what they cannot do: --path all, --image, and the flags of the other.
-void render_spread(const SpreadArgs& spread, SpreadRun run);
+void render_spread(const SpreadRequest& request);
 
 } // namespace clvis::cli

@@ -5,10 +5,14 @@
 
 #include <clvis/error.hpp>
 
+#include "shared/raster.h"
+
 #include <algorithm>
 #include <cmath>
 
 namespace clvis {
+
+static_assert(referee_depth_judge_px == 1.0 / double(CLVIS_SUBPIXEL_ONE), "the raster path's snapping step");
 
 using namespace detail;
 

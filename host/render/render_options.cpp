@@ -1,100 +1,138 @@
-// Names of the paths, of the raster path's depth-test modes and mappings, of the ray path's
-// mappings and of the coverage modes, for flags, messages and reports.
+// Names of every option enum (paths, culling, coverage, BVH updates, the raster path's depth-test
+// modes and mappings, the ray path's mappings, shading modes), one table each, for flags,
+// bindings, messages and reports; and the sample counts of kernels/shared/samples.h.
 #include <clvis/error.hpp>
 #include <clvis/render_options.hpp>
+#include <clvis/shading.hpp>
+
+#include "shared/samples.h"
+
+#include <utility>
 
 namespace clvis {
 
-const char* to_string(Path path) noexcept
+namespace {
+
+/// One option enum's names: `option` names the option in messages (the RenderOptions field as
+/// Python spells it), `values` every value with its name, in declaration order.
+template <class E>
+struct Names;
+
+template <>
+struct Names<Path> {
+    static constexpr const char* option = "path";
+    static constexpr std::pair<Path, const char*> values[] = {
+        {Path::Raster, "raster"}, {Path::Ray, "ray"}, {Path::Brute, "brute"}};
+};
+
+template <>
+struct Names<Cull> {
+    static constexpr const char* option = "cull";
+    static constexpr std::pair<Cull, const char*> values[] = {
+        {Cull::None, "none"}, {Cull::Back, "back"}, {Cull::Front, "front"}};
+};
+
+template <>
+struct Names<Coverage> {
+    static constexpr const char* option = "coverage";
+    static constexpr std::pair<Coverage, const char*> values[] = {
+        {Coverage::Watertight, "watertight"}, {Coverage::RasterRule, "raster-rule"}};
+};
+
+template <>
+struct Names<BvhUpdate> {
+    static constexpr const char* option = "bvh_update";
+    static constexpr std::pair<BvhUpdate, const char*> values[] = {
+        {BvhUpdate::Refit, "refit"}, {BvhUpdate::Rebuild, "rebuild"}};
+};
+
+template <>
+struct Names<RasterAtomics> {
+    static constexpr const char* option = "raster_atomics";
+    static constexpr std::pair<RasterAtomics, const char*> values[] = {
+        {RasterAtomics::Auto, "auto"}, {RasterAtomics::On, "on"}, {RasterAtomics::Off, "off"}};
+};
+
+template <>
+struct Names<RasterMapping> {
+    static constexpr const char* option = "raster_mapping";
+    static constexpr std::pair<RasterMapping, const char*> values[] = {
+        {RasterMapping::Auto, "auto"}, {RasterMapping::Square, "square"}, {RasterMapping::Pixel, "pixel"}};
+};
+
+template <>
+struct Names<RayMapping> {
+    static constexpr const char* option = "ray_mapping";
+    static constexpr std::pair<RayMapping, const char*> values[] = {
+        {RayMapping::Auto, "auto"}, {RayMapping::Packet, "packet"}, {RayMapping::Single, "single"}};
+};
+
+template <>
+struct Names<ShadeMode> {
+    static constexpr const char* option = "mode"; // ShadeOptions::mode
+    static constexpr std::pair<ShadeMode, const char*> values[] = {
+        {ShadeMode::Lambert, "lambert"}, {ShadeMode::Depth, "depth"}, {ShadeMode::Ids, "ids"}};
+};
+
+template <class E>
+const char* name_of(E value) noexcept
 {
-    switch (path) {
-    case Path::Raster: return "raster";
-    case Path::Ray: return "ray";
-    case Path::Brute: return "brute";
-    }
+    for (const auto& [e, name] : Names<E>::values)
+        if (e == value) return name;
     return "unknown";
 }
 
-Path path_from_string(const std::string& name)
+} // namespace
+
+template <class E>
+const std::vector<std::string>& option_names()
 {
-    for (Path p : {Path::Raster, Path::Ray, Path::Brute})
-        if (name == to_string(p)) return p;
-    throw Error(Error::Kind::InvalidArgument, "unknown path '" + name + "' (raster, ray or brute)");
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> v;
+        for (const auto& entry : Names<E>::values) v.push_back(entry.second);
+        return v;
+    }();
+    return names;
 }
 
-const char* to_string(RasterAtomics mode) noexcept
+template <class E>
+E option_from_string(const std::string& name)
 {
-    switch (mode) {
-    case RasterAtomics::Auto: return "auto";
-    case RasterAtomics::On: return "on";
-    case RasterAtomics::Off: return "off";
+    std::string listed;
+    for (const auto& [e, n] : Names<E>::values) {
+        if (name == n) return e;
+        listed += (listed.empty() ? "" : ", ") + std::string(n);
     }
-    return "unknown";
+    throw Error(Error::Kind::InvalidArgument,
+                std::string(Names<E>::option) + ": expected one of " + listed + ", got '" + name + "'");
 }
 
-const char* to_string(RasterMapping mapping) noexcept
-{
-    switch (mapping) {
-    case RasterMapping::Auto: return "auto";
-    case RasterMapping::Square: return "square";
-    case RasterMapping::Pixel: return "pixel";
-    }
-    return "unknown";
-}
+#define CLVIS_OPTION_NAMES(E, from_string)                                                                  \
+    template const std::vector<std::string>& option_names<E>();                                             \
+    template E option_from_string<E>(const std::string&);                                                   \
+    const char* to_string(E value) noexcept { return name_of(value); }                                      \
+    E from_string(const std::string& name) { return option_from_string<E>(name); }
 
-const char* to_string(RayMapping mapping) noexcept
-{
-    switch (mapping) {
-    case RayMapping::Auto: return "auto";
-    case RayMapping::Packet: return "packet";
-    case RayMapping::Single: return "single";
-    }
-    return "unknown";
-}
+CLVIS_OPTION_NAMES(Path, path_from_string)
+CLVIS_OPTION_NAMES(Cull, cull_from_string)
+CLVIS_OPTION_NAMES(Coverage, coverage_from_string)
+CLVIS_OPTION_NAMES(BvhUpdate, bvh_update_from_string)
+CLVIS_OPTION_NAMES(RasterAtomics, raster_atomics_from_string)
+CLVIS_OPTION_NAMES(RasterMapping, raster_mapping_from_string)
+CLVIS_OPTION_NAMES(RayMapping, ray_mapping_from_string)
+CLVIS_OPTION_NAMES(ShadeMode, shade_mode_from_string)
 
-const char* to_string(Coverage coverage) noexcept
-{
-    switch (coverage) {
-    case Coverage::Watertight: return "watertight";
-    case Coverage::RasterRule: return "raster-rule";
-    }
-    return "unknown";
-}
-
-RasterAtomics raster_atomics_from_string(const std::string& name)
-{
-    for (RasterAtomics m : {RasterAtomics::Auto, RasterAtomics::On, RasterAtomics::Off})
-        if (name == to_string(m)) return m;
-    throw Error(Error::Kind::InvalidArgument, "unknown raster atomics mode '" + name + "' (auto, on or off)");
-}
-
-RasterMapping raster_mapping_from_string(const std::string& name)
-{
-    for (RasterMapping m : {RasterMapping::Auto, RasterMapping::Square, RasterMapping::Pixel})
-        if (name == to_string(m)) return m;
-    throw Error(Error::Kind::InvalidArgument, "unknown raster mapping '" + name + "' (auto, square or pixel)");
-}
-
-RayMapping ray_mapping_from_string(const std::string& name)
-{
-    for (RayMapping m : {RayMapping::Auto, RayMapping::Packet, RayMapping::Single})
-        if (name == to_string(m)) return m;
-    throw Error(Error::Kind::InvalidArgument, "unknown ray mapping '" + name + "' (auto, packet or single)");
-}
+#undef CLVIS_OPTION_NAMES
 
 int samples_log2(int samples)
 {
-    for (int k = 0; k <= 4; ++k)
+    std::string listed;
+    for (int k = 0; k <= CLVIS_MAX_SAMPLES_LOG2; ++k) {
         if (samples == 1 << k) return k;
+        listed += (k == 0 ? "" : k < CLVIS_MAX_SAMPLES_LOG2 ? ", " : " or ") + std::to_string(1 << k);
+    }
     throw Error(Error::Kind::InvalidArgument,
-                "samples per pixel must be 1, 2, 4, 8 or 16, got " + std::to_string(samples));
-}
-
-Coverage coverage_from_string(const std::string& name)
-{
-    for (Coverage c : {Coverage::Watertight, Coverage::RasterRule})
-        if (name == to_string(c)) return c;
-    throw Error(Error::Kind::InvalidArgument, "unknown coverage '" + name + "' (watertight or raster-rule)");
+                "samples per pixel must be " + listed + ", got " + std::to_string(samples));
 }
 
 } // namespace clvis

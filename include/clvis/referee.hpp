@@ -51,7 +51,8 @@ struct RefereeTolerance {
     double depth_rel = referee_depth_rel; ///< relative; judged depths are never held tighter than it
 };
 /// The depth tolerance of a buffer's depths: relative, plus the gradient over this many pixels
-/// (the raster path's 1/65536 px snapping).
+/// (the raster path's 1/65536 px snapping: 1 / CLVIS_SUBPIXEL_ONE of kernels/shared/raster.h,
+/// which referee_setup.cpp checks).
 constexpr double referee_depth_judge_rel = 1e-5;
 constexpr double referee_depth_judge_px = 1.0 / 65536;
 

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <clvis/camera.hpp>
+#include <clvis/referee.hpp>
 #include <clvis/scene.hpp>
 #include <clvis/visibility.hpp>
 
@@ -20,7 +21,7 @@ constexpr double bary_px_tolerance = 0.01;
 /// The depth tolerance: depth_tolerance_rel d, plus the change of depth over
 /// depth_tolerance_px px along the triangle's screen-space depth gradient.
 constexpr double depth_tolerance_rel = 1e-5;
-constexpr double depth_tolerance_px = 1.0 / 65536;
+constexpr double depth_tolerance_px = referee_depth_judge_px; // the raster path's snapping step
 
 struct BaryVerdict {
     bool ok = true;

@@ -4,6 +4,8 @@
 // Path::Brute): `cull` changes the answer, and every path and the referee apply it alike;
 // `tile_size`, `raster_atomics`, `raster_mapping`, `ray_mapping` and `bvh` only tune one path's speed and never change an answer;
 // `coverage` picks the ray paths' tie rule on shared edges (both answers are right, see Coverage).
+// Every option enum has one names table (render_options.cpp): to_string, *_from_string and
+// option_names<E>() read it, and the command line and the Python module take their names from it.
 #pragma once
 
 #include <cstddef>
@@ -23,6 +25,18 @@ const char* to_string(Path path) noexcept;
 /// "raster", "ray" or "brute"; throws Error(InvalidArgument) otherwise.
 Path path_from_string(const std::string& name);
 
+/// The names of every value of an option enum (Path, Cull, Coverage, BvhUpdate, RasterAtomics,
+/// RasterMapping, RayMapping, and shading.hpp's ShadeMode) in declaration order: what to_string
+/// gives and the enum's *_from_string accepts, for flags' checks and bindings.
+template <class E>
+const std::vector<std::string>& option_names();
+
+/// The value of an option enum named `name`, as its *_from_string; throws
+/// Error(InvalidArgument) otherwise, the message "<option>: expected one of <names>, got
+/// '<name>'", <option> being the RenderOptions (ShadeOptions) field or "path", spelled as in Python.
+template <class E>
+E option_from_string(const std::string& name);
+
 /// Face culling. A triangle (v0, v1, v2), its vertices in index order after its mesh's
 /// transform, is front-facing when it appears counter-clockwise on screen (y up), that is when
 /// the eye lies on the side its normal cross(v1 - v0, v2 - v0) points to (orthographic: the
@@ -35,6 +49,10 @@ enum class Cull {
     Back,  ///< back faces dropped
     Front, ///< front faces dropped
 };
+
+const char* to_string(Cull cull) noexcept;
+/// "none", "back" or "front"; throws Error(InvalidArgument) otherwise.
+Cull cull_from_string(const std::string& name);
 
 /// How the ray path decides that a primary ray's sample lies inside a triangle (Path::Ray and
 /// Path::Brute; the raster path always applies its own rule).
@@ -56,6 +74,10 @@ Coverage coverage_from_string(const std::string& name);
 
 /// How a BVH follows a mesh whose positions changed (Renderer::update).
 enum class BvhUpdate { Refit, Rebuild };
+
+const char* to_string(BvhUpdate update) noexcept;
+/// "refit" or "rebuild"; throws Error(InvalidArgument) otherwise.
+BvhUpdate bvh_update_from_string(const std::string& name);
 
 struct BvhOptions {
     int max_leaf_size = 4; ///< triangles per leaf at most

@@ -7,6 +7,8 @@
 #include <clvis/renderer.hpp>
 #include <clvis/visibility.hpp>
 
+#include <string>
+
 namespace clvis {
 
 enum class ShadeMode {
@@ -14,6 +16,11 @@ enum class ShadeMode {
     Depth,     ///< view depth, near white to far black
     Ids,       ///< a false colour per triangle id
 };
+
+const char* to_string(ShadeMode mode) noexcept;
+/// "lambert", "depth" or "ids" (render_options.cpp's table, as option_names<ShadeMode>()); throws
+/// Error(InvalidArgument) otherwise, the message starting "mode: ".
+ShadeMode shade_mode_from_string(const std::string& name);
 
 struct ShadeOptions {
     ShadeMode mode = ShadeMode::Lambert;

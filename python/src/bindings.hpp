@@ -119,9 +119,6 @@ auto unlocked(Lock& lock, F&& f)
     return f();
 }
 
-/// 'raster', 'ray' or 'brute' as a Path; Error(InvalidArgument) listing them otherwise.
-Path path_named(const std::string& name);
-
 void bind_errors(nb::module_& m);
 void bind_devices(nb::module_& m);
 void bind_scene(nb::module_& m);
@@ -135,21 +132,12 @@ void bind_image(nb::module_& m);
 /// clvis.RayQuery (ray_query.cpp) and clvis.MultiDeviceRenderer (multi_device.cpp).
 void bind_ray_query(nb::module_& m);
 void bind_multi_device(nb::module_& m);
-/// The keyword arguments of render_options() as Renderer and MultiDeviceRenderer take them after
-/// their device(s) and scene: pass with std::apply.
-inline auto option_args()
-{
-    return std::make_tuple(nb::kw_only(), nb::arg("tile") = 0, nb::arg("cull") = "none", nb::arg("leaf_size") = 4,
-                           nb::arg("sah_bins") = 16, nb::arg("bvh_update") = "refit",
-                           nb::arg("raster_atomics") = "auto", nb::arg("coverage") = "watertight",
-                           nb::arg("samples") = 1, nb::arg("raster_mapping") = "auto",
-                           nb::arg("ray_mapping") = "auto");
-}
-
-/// The RenderOptions of a Renderer's keyword arguments, named as the command line names them.
-RenderOptions render_options(int tile, const std::string& cull, int leaf_size, int sah_bins,
-                             const std::string& bvh_update, const std::string& raster_atomics,
-                             const std::string& coverage, int samples, const std::string& raster_mapping,
-                             const std::string& ray_mapping);
+/// The RenderOptions of a Renderer's (or MultiDeviceRenderer's) keyword arguments after its
+/// device(s) and scene, named as the command line names them (options.cpp's table; the rest
+/// RenderOptions{}'s). TypeError for an unknown keyword (naming `what`, the class) or a value of
+/// the wrong type; Error(InvalidArgument) from the library's names tables for an unknown name.
+RenderOptions render_options(const nb::kwargs& given, const char* what);
+/// nb::sig of such an __init__: "def __init__(self, <head>, *, tile: int = 0, ...) -> None".
+const char* options_signature(const std::string& head);
 
 } // namespace clvis::python

@@ -26,8 +26,11 @@ nb::ndarray<nb::numpy, const std::uint8_t> shade_buffer(PyRenderer& r, const PyV
 {
     const VisibilityBuffer& buffer = device_buffer(vis, "shade");
     ShadeOptions o;
-    o.mode = parse_choice<ShadeMode>(mode, "shade: mode",
-                                     {{"lambert", ShadeMode::Lambert}, {"depth", ShadeMode::Depth}, {"ids", ShadeMode::Ids}});
+    try {
+        o.mode = shade_mode_from_string(mode);
+    } catch (const Error& e) {
+        throw Error(e.kind(), std::string("shade: ") + e.what()); // "shade: mode: expected one of ..."
+    }
     o.light_direction = to_vec3(light);
     const Camera& cam = camera ? *camera : *vis.camera;
     return image_array(unlocked(r.lock, [&] { return shade(r.renderer, buffer, cam, o); }));

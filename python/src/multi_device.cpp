@@ -38,7 +38,7 @@ PyVisibility render(PyMultiRenderer& r, const Camera& camera, int width, int hei
                     int tile, bool device_map, nb::handle out)
 {
     PyVisibility vis;
-    vis.path = path_named(path_name);
+    vis.path = path_from_string(path_name);
     vis.camera = camera;
     MultiDeviceOptions options;
     options.tile = tile;
@@ -80,17 +80,16 @@ void bind_multi_device(nb::module_& m)
             return "<clvis.DeviceShare " + s.device + ": " + std::to_string(s.tiles) + " tiles>";
         });
     nb::class_<PyMultiRenderer> c(m, "MultiDeviceRenderer", multi_doc);
-    const auto init = [](PyMultiRenderer* self, const std::vector<Device>& devices, PyScene& scene, int tile,
-                         const std::string& cull, int leaf_size, int sah_bins, const std::string& bvh_update,
-                         const std::string& raster_atomics, const std::string& coverage, int samples,
-                         const std::string& raster_mapping, const std::string& ray_mapping) {
-        // samples > 1: the C++ MultiDeviceRenderer refuses it, naming it.
-        const RenderOptions o = render_options(tile, cull, leaf_size, sah_bins, bvh_update, raster_atomics, coverage,
-                                               samples, raster_mapping, ray_mapping);
-        unlocked(scene.lock, [&] { new (self) PyMultiRenderer{MultiDeviceRenderer(devices, scene.scene, o), {}, {}}; });
-    };
-    std::apply([&](auto... options) { c.def("__init__", init, nb::arg("devices"), nb::arg("scene"), options...); },
-               option_args());
+    c.def(
+        "__init__",
+        [](PyMultiRenderer* self, const std::vector<Device>& devices, PyScene& scene, const nb::kwargs& options) {
+            // samples > 1: the C++ MultiDeviceRenderer refuses it, naming it.
+            const RenderOptions o = render_options(options, "MultiDeviceRenderer");
+            unlocked(scene.lock,
+                     [&] { new (self) PyMultiRenderer{MultiDeviceRenderer(devices, scene.scene, o), {}, {}}; });
+        },
+        nb::sig(options_signature("devices: collections.abc.Sequence[Device], scene: Scene")), nb::arg("devices"),
+        nb::arg("scene"), nb::arg("options"));
     c.def("render", &render,
              nb::sig("def render(self, camera: Camera, width: int, height: int, path: str = 'raster', *, "
                      "screen_tile: int = 64, device_map: bool = False, "
@@ -103,7 +102,7 @@ void bind_multi_device(nb::module_& m)
         .def(
             "prepare",
             [](PyMultiRenderer& r, const std::string& path) {
-                const Path p = path_named(path);
+                const Path p = path_from_string(path);
                 unlocked(r.lock, [&] { r.renderer.prepare(p); });
             },
             nb::arg("path"), "Builds what `path` needs on every device before the first frame.")

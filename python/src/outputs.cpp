@@ -68,7 +68,7 @@ nb::object visible_ids(PyRenderer& r, nb::handle views)
 nb::tuple render_views(PyRenderer& r, const std::vector<Camera>& cameras, int width, int height,
                        const std::string& path_name)
 {
-    const Path path = path_named(path_name);
+    const Path path = path_from_string(path_name);
     if (cameras.empty()) throw Error(Error::Kind::InvalidArgument, "render_views: no cameras");
     const std::size_t pixels = std::size_t(width > 0 ? width : 0) * std::size_t(height > 0 ? height : 0);
     std::vector<std::uint32_t> ids;

@@ -91,7 +91,7 @@ void bind_referee(nb::module_& m)
             "__init__",
             [](PyReferee* self, PyScene& scene, const Camera& camera, int width, int height, const std::string& cull) {
                 RenderOptions o;
-                o.cull = parse_choice<Cull>(cull, "cull", {{"none", Cull::None}, {"back", Cull::Back}, {"front", Cull::Front}});
+                o.cull = cull_from_string(cull);
                 unlocked(scene.lock, [&] {
                     new (self) PyReferee{Referee(scene.scene, camera, width, height, o)};
                 });

@@ -17,36 +17,6 @@
 
 namespace clvis::python {
 
-Path path_named(const std::string& name)
-{
-    return parse_choice<Path>(name, "path", {{"raster", Path::Raster}, {"ray", Path::Ray}, {"brute", Path::Brute}});
-}
-
-RenderOptions render_options(int tile, const std::string& cull, int leaf_size, int sah_bins,
-                             const std::string& bvh_update, const std::string& raster_atomics,
-                             const std::string& coverage, int samples, const std::string& raster_mapping,
-                             const std::string& ray_mapping)
-{
-    RenderOptions o;
-    o.ray_mapping = parse_choice<RayMapping>(
-        ray_mapping, "ray_mapping", {{"auto", RayMapping::Auto}, {"packet", RayMapping::Packet}, {"single", RayMapping::Single}});
-    o.raster_mapping = parse_choice<RasterMapping>(
-        raster_mapping, "raster_mapping",
-        {{"auto", RasterMapping::Auto}, {"square", RasterMapping::Square}, {"pixel", RasterMapping::Pixel}});
-    o.samples = samples; // checked by the Renderer: 1, 2, 4, 8 or 16
-    o.tile_size = tile;
-    o.raster_atomics = parse_choice<RasterAtomics>(
-        raster_atomics, "raster_atomics", {{"auto", RasterAtomics::Auto}, {"on", RasterAtomics::On}, {"off", RasterAtomics::Off}});
-    o.cull = parse_choice<Cull>(cull, "cull", {{"none", Cull::None}, {"back", Cull::Back}, {"front", Cull::Front}});
-    o.coverage = parse_choice<Coverage>(coverage, "coverage",
-                                        {{"watertight", Coverage::Watertight}, {"raster-rule", Coverage::RasterRule}});
-    o.bvh.max_leaf_size = leaf_size;
-    o.bvh.sah_bins = sah_bins;
-    o.bvh.update = parse_choice<BvhUpdate>(bvh_update, "bvh_update",
-                                           {{"refit", BvhUpdate::Refit}, {"rebuild", BvhUpdate::Rebuild}});
-    return o;
-}
-
 const HostVisibility& host_of(const PyVisibility& vis, HostVisibility& scratch)
 {
     if (!vis.ids_out.is_valid()) return *vis.host;
@@ -182,7 +152,7 @@ nb::object render(PyRenderer& r, const Camera& camera, int width, int height, co
 {
     nb::object result = nb::cast(PyVisibility{}, nb::rv_policy::move);
     PyVisibility& vis = nb::cast<PyVisibility&>(result);
-    vis.path = path_named(path_name);
+    vis.path = path_from_string(path_name);
     vis.camera = camera;
     if (!region.is_none()) vis.region = region_of(region);
     const int w = vis.region ? vis.region->width : width, h = vis.region ? vis.region->height : height;
@@ -343,19 +313,17 @@ void bind_render(nb::module_& m)
     bind_timing(m);
     bind_visibility(m);
     nb::class_<PyRenderer> r(m, "Renderer", nb::is_weak_referenceable(), renderer_doc);
-    const auto init = [](PyRenderer* self, const Device& device, PyScene& scene, int tile, const std::string& cull,
-                         int leaf_size, int sah_bins, const std::string& bvh_update,
-                         const std::string& raster_atomics, const std::string& coverage, int samples,
-                         const std::string& raster_mapping, const std::string& ray_mapping) {
-        const RenderOptions o = render_options(tile, cull, leaf_size, sah_bins, bvh_update, raster_atomics, coverage,
-                                               samples, raster_mapping, ray_mapping);
-        unlocked(scene.lock, [&] {
-            const auto triangles = std::uint32_t(scene.scene.triangle_count());
-            new (self) PyRenderer{Renderer(device, scene.scene, o), {}, triangles, nullptr, {}};
-        });
-    };
-    std::apply([&](auto... options) { r.def("__init__", init, nb::arg("device"), nb::arg("scene"), options...); },
-               option_args());
+    r.def(
+        "__init__",
+        [](PyRenderer* self, const Device& device, PyScene& scene, const nb::kwargs& options) {
+            const RenderOptions o = render_options(options, "Renderer");
+            unlocked(scene.lock, [&] {
+                const auto triangles = std::uint32_t(scene.scene.triangle_count());
+                new (self) PyRenderer{Renderer(device, scene.scene, o), {}, triangles, nullptr, {}};
+            });
+        },
+        nb::sig(options_signature("device: Device, scene: Scene")), nb::arg("device"), nb::arg("scene"),
+        nb::arg("options"));
     r.def("render", &render,
              nb::sig("def render(self, camera: Camera, width: int, height: int, path: str = 'raster', *, "
                      "region: tuple[int, int, int, int] | None = None, "
@@ -382,7 +350,7 @@ void bind_render(nb::module_& m)
             "set_positions or set_transform) and refits or rebuilds the BVH.")
         .def(
             "prepare", [](PyRenderer& r, const std::string& path) {
-                const Path p = path_named(path);
+                const Path p = path_from_string(path);
                 unlocked(r.lock, [&] { r.renderer.prepare(p); });
             },
             nb::arg("path"), "Builds what `path` needs (kernels, BVH) so that the first render is not charged for it.")

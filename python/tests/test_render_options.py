@@ -118,3 +118,16 @@ def test_multi_device_errors_name_the_argument(device, bunny, camera):
         multi.render(camera, W, H, screen_tile=0)
     with pytest.raises(clvis.InvalidArgumentError, match="render: out ids"):
         multi.render(camera, W, H, out=np.zeros((H, W), np.float32))
+
+
+def test_options_are_keywords_of_the_libraries_names(device, bunny):
+    with pytest.raises(TypeError, match="unexpected keyword argument 'tiles'"):
+        clvis.Renderer(device, bunny, tiles=16)
+    with pytest.raises(TypeError, match="tile: expected an int"):
+        clvis.Renderer(device, bunny, tile="16")
+    with pytest.raises(TypeError):
+        clvis.Renderer(device, bunny, 16)  # keywords only
+    with pytest.raises(clvis.InvalidArgumentError, match="bvh_update: expected one of refit, rebuild, got 'x'"):
+        clvis.MultiDeviceRenderer([device], bunny, bvh_update="x")
+    renderer = clvis.Renderer(device, bunny, raster_mapping="pixel", ray_mapping="single")
+    assert (renderer.raster_mapping["mapping"], renderer.ray_mapping["mapping"]) == ("pixel", "single")
