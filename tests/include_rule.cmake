@@ -11,18 +11,18 @@ if(NOT HOST_DIR OR NOT IS_DIRECTORY "${HOST_DIR}")
   message(FATAL_ERROR "include_rule: HOST_DIR '${HOST_DIR}' is not a folder")
 endif()
 
-# Each folder of host/ and the folders it may include from; shared/ is kernels/shared (plain C
-# headers both compilers read), open to all. "loose" is host/ itself.
-set(may_loose   shared)
-set(may_runtime runtime shared)
-set(may_scene   scene shared)
-set(may_frame   frame runtime scene shared)             # the frame layer: never a path, never render
-set(may_raster  raster frame runtime scene shared)      # a path: the frame layer, never render/
-set(may_ray     ray frame runtime scene shared)         # a path: the frame layer, never render/
-set(may_render  render raster ray frame runtime scene shared)
-set(may_query   query render ray frame runtime scene shared)
-set(may_referee referee scene shared)
-set(may_image   "")                                     # public headers only
+# Each folder of host/ and the folders it may include from besides shared/ (kernels/shared: plain
+# C headers both compilers read) and clvis/ (the public headers), open to all. "loose" is host/.
+set(may_loose   "")
+set(may_runtime runtime)
+set(may_scene   scene)
+set(may_frame   frame runtime scene)             # the frame layer: never a path, never render/
+set(may_raster  raster frame runtime scene)      # a path: the frame layer, never render/
+set(may_ray     ray frame runtime scene)         # a path: the frame layer, never render/
+set(may_render  render raster ray frame runtime scene)
+set(may_query   query render ray frame runtime scene)
+set(may_referee referee scene)
+set(may_image   "")                              # public headers only
 set(may_dist    "")
 set(may_cli     "")
 
@@ -69,11 +69,9 @@ foreach(source IN LISTS sources)
       math(EXPR broken "${broken} + 1")
     elseif(target MATCHES "^([^/]+)/")
       set(to "${CMAKE_MATCH_1}")
-      if(NOT to STREQUAL "clvis" AND NOT to IN_LIST allowed)
-        string(REPLACE ";" " " list "${allowed}")
-        if(list STREQUAL "")
-          set(list "public headers only")
-        endif()
+      if(NOT to STREQUAL "clvis" AND NOT to STREQUAL "shared" AND NOT to IN_LIST allowed)
+        string(REPLACE ";" " " list "${allowed} shared clvis")
+        string(STRIP "${list}" list)
         message("${shown}:${number}: ${floor} may not include ${target} (${floor} may include: ${list})")
         math(EXPR broken "${broken} + 1")
       endif()
