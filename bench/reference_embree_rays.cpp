@@ -1,6 +1,6 @@
 // Embree 3 on arbitrary rays: rtcIntersect1/rtcOccluded1 per ray, or rtcIntersect16/rtcOccluded16
 // on 16 consecutive rays, over chunks taken from an atomic counter by `threads` std::threads, with
-// incoherent-ray hints. The reference for clvis's ray queries (host/ray/ray_query.cpp).
+// incoherent-ray hints. The reference for clvis's ray queries (host/query/ray_query.cpp).
 #include "reference_embree.hpp"
 
 #if CLVIS_HAVE_EMBREE

@@ -3,7 +3,7 @@
 // the kernels compile (kernels/shared/camera.h) against the double-precision reference.
 #include "catch.hpp"
 
-#include "render/pipeline.hpp"
+#include "frame/frame.hpp"
 
 #include <clvis/camera.hpp>
 #include <clvis/error.hpp>

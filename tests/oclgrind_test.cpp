@@ -8,7 +8,7 @@
 
 #include <clvis/clvis.hpp>
 
-#include "render/pipeline.hpp"
+#include "raster/raster_pipeline.hpp"
 #include "render/renderer_probe.hpp"
 
 #include <cmath>

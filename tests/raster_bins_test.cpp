@@ -4,7 +4,7 @@
 #include "catch.hpp"
 #include "test_meshes.hpp"
 
-#include "render/renderer_probe.hpp"
+#include "raster/raster_pipeline.hpp"
 
 #include <clvis/clvis.hpp>
 

@@ -5,7 +5,7 @@
 #include "test_files.hpp"
 #include "test_meshes.hpp"
 
-#include "raster/raster_tune.hpp"
+#include "render/raster_tune.hpp"
 
 #include <clvis/clvis.hpp>
 

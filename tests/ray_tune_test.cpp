@@ -6,7 +6,7 @@
 #include "test_files.hpp"
 #include "test_meshes.hpp"
 
-#include "ray/ray_tune.hpp"
+#include "render/ray_tune.hpp"
 
 #include <clvis/clvis.hpp>
 

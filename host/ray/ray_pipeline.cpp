@@ -4,7 +4,7 @@
 // work-item per pixel and a work-group per tile: the same keys), or ray_brute.cl against every
 // triangle, each built for RenderOptions::coverage (the watertight test, or CLVIS_RASTER_RULE: the
 // raster path's predicate).
-#include "render/pipeline.hpp"
+#include "ray/ray_pipeline.hpp"
 
 #include "ray/bvh_build.hpp"
 #include "ray/bvh_instances.hpp"

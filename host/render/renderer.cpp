@@ -1,11 +1,11 @@
 // The Renderer: uploads the scene once, keeps it (and the BVH) resident, validates each frame's
-// request, dispatches the chosen path and times it. Paths live in raster_pipeline.cpp and
-// ray_pipeline.cpp behind render/pipeline.hpp.
+// request, dispatches the chosen path and times it. The paths live in raster/raster_pipeline.hpp
+// and ray/ray_pipeline.hpp, over the frame layer (frame/frame.hpp).
 #include "render/renderer_impl.hpp"
 
-#include "raster/raster_tune.hpp"
+#include "render/raster_tune.hpp"
 #include "render/renderer_probe.hpp"
-#include "ray/ray_tune.hpp"
+#include "render/ray_tune.hpp"
 
 #include <clvis/renderer.hpp>
 
@@ -128,8 +128,8 @@ void Renderer::Impl::upload_positions(std::size_t first_vertex, std::size_t coun
 
 const RasterMappingChoice& Renderer::Impl::raster_mapping()
 {
-    if (!mapping) mapping = choose_raster_mapping(device, options);
-    return *mapping;
+    if (!raster_choice) raster_choice = choose_raster_mapping(device, options);
+    return *raster_choice;
 }
 
 RasterPipeline& Renderer::Impl::raster_pipeline()
@@ -148,12 +148,30 @@ const RayMappingChoice& Renderer::Impl::ray_mapping()
     return *ray_choice;
 }
 
-RayPipeline& Renderer::Impl::ray_pipeline(bool need_bvh, bool primary_rays)
+RayPipeline& Renderer::Impl::ray_pipeline()
 {
     if (!ray) ray = std::make_unique<RayPipeline>(dev(), options);
-    if (primary_rays) ray->set_mapping(ray_mapping().mapping); // before the build makes its kernel
-    if (need_bvh && !ray->built()) ray->build(scene, queue);
     return *ray;
+}
+
+RayPipeline& Renderer::Impl::ray_pipeline_with_bvh()
+{
+    RayPipeline& p = ray_pipeline();
+    if (!p.built()) p.build(scene, queue);
+    return p;
+}
+
+RayPipeline& Renderer::Impl::primary_ray_pipeline()
+{
+    ray_pipeline().set_mapping(ray_mapping().mapping); // before the build makes its kernel
+    return ray_pipeline_with_bvh();
+}
+
+void Renderer::Impl::prepare(Path path)
+{
+    if (path == Path::Raster) raster_pipeline();
+    else if (path == Path::Ray) primary_ray_pipeline();
+    else ray_pipeline();
 }
 
 Renderer::Renderer(Device device, const Scene& scene, RenderOptions options) : impl_(std::make_unique<Impl>())
@@ -186,10 +204,7 @@ Renderer::Impl& Renderer::checked(const char* call) const
 void Renderer::prepare(Path path)
 {
     Impl& m = checked("Renderer::prepare");
-    error_boundary(std::string("preparing the ") + to_string(path) + " path", [&] {
-        if (path == Path::Raster) m.raster_pipeline();
-        else m.ray_pipeline(path == Path::Ray, path == Path::Ray);
-    });
+    error_boundary(std::string("preparing the ") + to_string(path) + " path", [&] { m.prepare(path); });
 }
 
 VisibilityBuffer Renderer::render(const Camera& camera, int width, int height, Path path)
@@ -255,8 +270,7 @@ void Renderer::Impl::render(const Camera& camera, int width, int height, const R
     frame.keys = cl::Buffer(target.keys(), true);
     frame.stages = &stages;
     // Build what the path needs before the clock starts: the frame is only its kernels.
-    if (path == Path::Raster) raster_pipeline();
-    else ray_pipeline(path == Path::Ray, path == Path::Ray);
+    prepare(path);
     try {
         auto t0 = std::chrono::steady_clock::now();
         if (path == Path::Raster && instanced) raster->render(item_buffers(), frame, raster_chunk);

@@ -1,9 +1,12 @@
-// The state behind clvis::Renderer, shared by renderer.cpp and shading.cpp.
+// The state behind clvis::Renderer, shared by the files of render/ (renderer.cpp, batch.cpp,
+// shading.cpp, resolve.cpp) and the ray queries above it (query/ray_query_impl.hpp).
 #pragma once
 
+#include "frame/frame.hpp"
+#include "frame/instanced_scene.hpp"
+#include "raster/raster_pipeline.hpp"
+#include "ray/ray_pipeline.hpp"
 #include "runtime/cl_runtime.hpp"
-#include "render/instanced_scene.hpp"
-#include "render/pipeline.hpp"
 
 #include <clvis/renderer.hpp>
 
@@ -48,18 +51,23 @@ struct Renderer::Impl {
         items_uploaded = true;
         return items;
     }
-    /// The ray pipeline, made on first use; the BVH built when `need_bvh`; the primary rays'
-    /// mapping resolved and applied when `primary_rays` (Path::Ray's frames and views; the brute
-    /// path and the ray queries need none).
-    detail::RayPipeline& ray_pipeline(bool need_bvh, bool primary_rays = false);
+    /// The ray pipeline, made on first use, nothing built (the brute path needs no more).
+    detail::RayPipeline& ray_pipeline();
+    /// The ray pipeline with its BVH built (the ray queries: they need no primary-ray mapping).
+    detail::RayPipeline& ray_pipeline_with_bvh();
+    /// The ray pipeline for primary rays (Path::Ray's frames and views): the ray mapping resolved
+    /// and applied, then the BVH built (so the build makes the chosen trace kernel).
+    detail::RayPipeline& primary_ray_pipeline();
     std::optional<RayMappingChoice> ray_choice; ///< options.ray_mapping resolved, once needed
-    /// The ray mapping, resolved on first use (Auto: the tuner, ray/ray_tune.hpp).
+    /// The ray mapping, resolved on first use (Auto: the tuner, render/ray_tune.hpp).
     const RayMappingChoice& ray_mapping();
-    std::optional<RasterMappingChoice> mapping; ///< options.raster_mapping resolved, once needed
-    /// The raster mapping, resolved on first use (Auto: the tuner, raster/raster_tune.hpp).
+    std::optional<RasterMappingChoice> raster_choice; ///< options.raster_mapping resolved, once needed
+    /// The raster mapping, resolved on first use (Auto: the tuner, render/raster_tune.hpp).
     const RasterMappingChoice& raster_mapping();
     /// The raster path, made on first use with the resolved mapping.
     detail::RasterPipeline& raster_pipeline();
+    /// Makes what a frame of `path` needs (its pipeline, mapping and BVH) before it is timed.
+    void prepare(Path path);
     /// One frame of `path`: `region` of a width x height image into `target` (the region's
     /// size), for a camera already validated.
     void render(const Camera& camera, int width, int height, const Region& region, Path path,

@@ -13,12 +13,8 @@ namespace clvis::detail {
 void set_raster_chunk(Renderer& renderer, std::size_t triangles);
 /// Whether the expansion (Scene::world_positions) is on the device.
 bool expansion_uploaded(Renderer& renderer);
-/// Device bytes of the scene's meshes and item records (render/instanced_scene.hpp), 0 before
+/// Device bytes of the scene's meshes and item records (frame/instanced_scene.hpp), 0 before
 /// the raster path first draws a scene with instances.
 std::uint64_t item_device_bytes(Renderer& renderer);
-/// First capacities of the raster path's list of triangles to bin and of its bins (elements) for
-/// raster pipelines made from now on, in this process (0: the defaults). Tests make them tiny to
-/// drive the growth and redraw of a frame whose list or bins overflowed.
-void set_raster_first_capacities(std::size_t triangles, std::size_t entries);
 
 } // namespace clvis::detail

@@ -1,4 +1,4 @@
-// The workload that the mapping tuners (raster/raster_tune.hpp, ray/ray_tune.hpp) measure their
+// The workload that the mapping tuners (render/raster_tune.hpp, render/ray_tune.hpp) measure their
 // candidates on: a fixed synthetic scene rendered by a Renderer of its own, timed in host wall time.
 #pragma once
 

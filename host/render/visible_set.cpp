@@ -1,6 +1,6 @@
 // The visible set on the device (kernels/visible.cl): marking from visibility buffers, the
 // compaction into sorted ids, and the reads back.
-#include "render/pipeline.hpp"
+#include "frame/frame.hpp"
 #include "runtime/cl_runtime.hpp"
 
 #include <clvis/visible_set.hpp>

@@ -1,7 +1,7 @@
 // A choice between equivalent ways to run a kernel (a mapping of work onto work-items), made per
 // device by measurement and kept on disk: the first time a key (device, driver, kernel sources,
 // the options that matter) is met, every candidate is measured and the fastest kept in the cache
-// folder (cache_dir.hpp); later runs read it. Used by raster/raster_tune.cpp and ray/ray_tune.cpp.
+// folder (cache_dir.hpp); later runs read it. Used by render/raster_tune.cpp and render/ray_tune.cpp.
 #pragma once
 
 #include <filesystem>

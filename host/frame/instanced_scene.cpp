@@ -1,6 +1,6 @@
-// The device description of a scene with instances (render/instanced_scene.hpp): prototypes and
+// The device description of a scene with instances (frame/instanced_scene.hpp): prototypes and
 // plain meshes once, a clvis_item per item.
-#include "render/instanced_scene.hpp"
+#include "frame/instanced_scene.hpp"
 
 #include "runtime/cl_runtime.hpp"
 #include "scene/instance_transform.hpp"

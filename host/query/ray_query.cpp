@@ -2,7 +2,7 @@
 // batch (or reads them from the caller's cl_mem), launches kernels/ray_query.cl and reads the
 // answers back into the caller's storage. Batches keep device memory bounded whatever the count.
 // The rays generated from visibility buffers (ambient occlusion, shadows) are in ray_generate.cpp.
-#include "ray/ray_query_impl.hpp"
+#include "query/ray_query_impl.hpp"
 
 #include "shared/ray_query.h"
 
@@ -82,7 +82,7 @@ RayQuery::Impl::Impl(Renderer& renderer, const RayQueryOptions& o) : r(RendererA
     if (options.lanes < 0 || options.lanes > 8)
         throw Error(Error::Kind::InvalidArgument,
                     "ray query: lanes must lie in [0, 8], got " + std::to_string(options.lanes));
-    if (!options.brute) error_boundary("preparing the ray queries", [&] { return &r.ray_pipeline(true); });
+    if (!options.brute) error_boundary("preparing the ray queries", [&] { return &r.ray_pipeline_with_bvh(); });
 }
 
 cl::Kernel& RayQuery::Impl::kernel(RayQueryKind kind)
@@ -210,7 +210,7 @@ RayQueryStats RayQuery::Impl::run(RayQueryKind kind, const Source& src, const Si
     stats.rays = n;
     if (n == 0) return stats;
     error_boundary(std::string("answering a ray query (") + to_string(kind) + ")", [&] {
-        if (!options.brute) r.ray_pipeline(true);
+        if (!options.brute) r.ray_pipeline_with_bvh();
         reserve(std::min(n, options.batch_rays));
         for (std::size_t first = 0; first < n; first += capacity)
             batch(kind, src, dst, first, std::min(capacity, n - first), stats);

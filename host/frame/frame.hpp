@@ -1,6 +1,8 @@
-// The seam between the Renderer and the two paths: what is resident on the device for a scene,
+// The frame layer under the two paths (host/frame/): what is resident on the device for a scene,
 // what one frame needs, and how stages report their device time. Both paths write the same
-// visibility buffer (kernels/shared/visibility.h) and know nothing of each other.
+// visibility buffer (kernels/shared/visibility.h) and know nothing of each other; each declares
+// its pipeline in its own folder (raster/raster_pipeline.hpp, ray/ray_pipeline.hpp), and the
+// Renderer (render/) drives them. This folder includes only runtime/, scene/ and shared/.
 #pragma once
 
 #include "runtime/cl.hpp"
@@ -35,7 +37,7 @@ struct DeviceScene {
     void set_args(cl::Kernel& kernel, cl_uint first) const;
 };
 
-struct InstancedScene; // render/instanced_scene.hpp
+struct InstancedScene; // frame/instanced_scene.hpp
 
 /// Collects the profiling events of a frame's kernels by stage name.
 class StageRecorder {
@@ -83,7 +85,6 @@ cl::Kernel make_clear_kernel(Device::Impl& device);
 /// Enqueues the clear of frame.keys to the background key (stage "clear").
 void clear_keys(cl::Kernel& clear, Frame& frame);
 
-/// A 1-D or 2-D global size rounded up to a multiple of the local size.
 /// RenderOptions::cull as the kernels' CLVIS_CULL_* (shared/visibility.h), for every path.
 inline int cull_mode(Cull cull)
 {
@@ -95,72 +96,7 @@ inline int cull_mode(Cull cull)
     return CLVIS_CULL_NONE;
 }
 
+/// A global size rounded up to a multiple of the local size.
 inline std::size_t round_up(std::size_t n, std::size_t multiple) { return (n + multiple - 1) / multiple * multiple; }
-
-/// The raster path's first list of triangles to bin (elements): a frame that lists more grows it
-/// and runs setup again (tests/oclgrind_test.cpp drives that path).
-constexpr std::size_t raster_first_tri_capacity = std::size_t(1) << 12;
-
-/// The raster tile edge (log2) that RenderOptions::tile_size asks for (0: the default).
-int raster_tile_log2(const RenderOptions& options);
-/// Whether the raster path runs by tile ownership on `info` under `options` (RasterAtomics).
-bool raster_owned(const DeviceInfo& info, const RenderOptions& options);
-
-/// The raster path. Its options name Square or Pixel: the Renderer resolves Auto first
-/// (raster/raster_tune.hpp).
-class RasterPipeline {
-public:
-    RasterPipeline(Device::Impl& device, const RenderOptions& options);
-    ~RasterPipeline();
-    /// Enqueues every kernel of the raster path for `frame` (the clear included) and returns
-    /// without waiting; the Renderer waits and collects the stage times.
-    void render(const DeviceScene& scene, Frame& frame);
-    /// The same for a scene with instances, without its expansion: chunks of whole items of at
-    /// most `chunk_triangles` triangles (or one item), each merged into the keys.
-    void render(const InstancedScene& scene, Frame& frame, std::size_t chunk_triangles);
-
-    struct Impl;
-
-private:
-    std::unique_ptr<Impl> impl_;
-};
-
-class RayPipeline {
-public:
-    RayPipeline(Device::Impl& device, const RenderOptions& options);
-    ~RayPipeline();
-    /// Builds the BVH of `scene` on the host and uploads it: one tree, or with instances one per
-    /// prototype and a top level (ray/bvh_instances.hpp).
-    void build(const Scene& scene, cl::CommandQueue& queue);
-    /// Follows changed positions: refit or rebuild as options.bvh.update says; with instances,
-    /// only the plain meshes' tree and the top level change.
-    void update(const Scene& scene, cl::CommandQueue& queue);
-    /// The primary rays' mapping (Packet or Single; RenderOptions' Auto traces packets until the
-    /// Renderer resolves it): another one remakes the trace kernels.
-    void set_mapping(RayMapping mapping);
-    bool built() const;
-    const BvhStats& stats() const;
-    /// Enqueues the trace of one ray per pixel centre (through the BVH, or against every
-    /// triangle when `brute`) writing every key of frame.keys.
-    void render(const DeviceScene& scene, Frame& frame, bool brute);
-    /// Enqueues one trace through the BVH for every view of `frame` (ray_trace_views).
-    void render_views(ViewsFrame& frame);
-
-    /// The resident BVH as ray_trace.cl reads it, for the ray queries (ray_query.cpp): 4-wide
-    /// nodes, leaf triangles, the node count, the instances (empty without them), whether it has
-    /// two levels (a scene with instances: ray_query.cl's CLVIS_INSTANCES) and the stack entries a
-    /// walk needs. Valid once built.
-    const cl::Buffer& nodes() const;
-    const cl::Buffer& triangles() const;
-    std::uint32_t node_count() const;
-    const cl::Buffer& instances() const;
-    bool two_level() const;
-    int stack_entries() const;
-
-    struct Impl;
-
-private:
-    std::unique_ptr<Impl> impl_;
-};
 
 } // namespace clvis::detail

@@ -1,6 +1,6 @@
 // What every path shares for a frame: the float32 camera for the kernels, the clear of the
 // visibility buffer, and the stage timings from profiling events.
-#include "render/pipeline.hpp"
+#include "frame/frame.hpp"
 
 #include "runtime/cl_runtime.hpp"
 

@@ -1,7 +1,7 @@
 // Rays made on the device from a visibility buffer (kernels/ray_generate.cl) and answered by the
 // any-hit query (ray_query.cpp), in chunks of pixels so device memory stays bounded: ambient
 // occlusion and shadows toward a point light, resolved per pixel on the host.
-#include "ray/ray_query_impl.hpp"
+#include "query/ray_query_impl.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -1,8 +1,8 @@
 // RasterMapping::Auto (raster_tune.hpp): the key that a raster mapping depends on, and its
 // measurement, a fixed synthetic frame drawn with each mapping by a Renderer of its own.
-#include "raster/raster_tune.hpp"
+#include "render/raster_tune.hpp"
 
-#include "render/pipeline.hpp"
+#include "raster/raster_pipeline.hpp"
 #include "render/tune_workload.hpp"
 
 #include <string>

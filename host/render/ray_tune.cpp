@@ -1,6 +1,6 @@
 // RayMapping::Auto (ray_tune.hpp): the key that a ray mapping depends on, and its measurement,
 // the tuning frames traced with each mapping by a Renderer of its own.
-#include "ray/ray_tune.hpp"
+#include "render/ray_tune.hpp"
 
 #include "render/tune_workload.hpp"
 

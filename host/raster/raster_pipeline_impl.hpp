@@ -1,0 +1,121 @@
+// The raster path's state behind RasterPipeline (raster_pipeline.hpp), shared by its launches
+// (raster_pipeline.cpp: kernels made, arguments set, stages enqueued, a sample drawn again until
+// its list and bins held it) and its sizing (raster_sizing.cpp: work-group sizes, loop budgets,
+// the growable buffers and the tile bins).
+#pragma once
+
+#include "frame/instanced_scene.hpp"
+#include "raster/raster_pipeline.hpp"
+#include "runtime/cl_runtime.hpp"
+
+#include "shared/raster.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+
+namespace clvis::detail {
+
+/// The counts read back once a sample: triangles listed, bin entries in all, the longest bin's.
+struct RasterCounts { cl_ulong listed, entries, longest; };
+
+struct RasterPipeline::Impl {
+    /// Work-items per group of the one-dimensional kernels (setup, bin count and fill), at most.
+    static constexpr std::size_t linear_group = 64;
+    /// Lists of binned triangles up to this capacity are binned by work-groups of small_bin_group
+    /// (bin_listed says why).
+    static constexpr std::size_t small_bin_list = std::size_t(1) << 14, small_bin_group = 4;
+    /// Work-items per group edge of raster_fine.cl (each owns a square of pixels), at most.
+    static constexpr std::size_t fine_group_edge = 4;
+    /// Pixels per group edge of raster_fine_pixel, at most (fewer where the grant, local memory or tile ask).
+    static constexpr std::size_t pixel_group_edge = 16;
+    /// Work-items of the single work-group of raster_bin_scan, at most.
+    static constexpr std::size_t scan_group = 256;
+    /// First capacities of the growable buffers (elements); they double or jump to what a frame needs.
+    static constexpr std::size_t first_tri_capacity = raster_first_tri_capacity,
+                                 first_entry_capacity = std::size_t(1) << 14;
+
+    Device::Impl& device;
+    int tile_log2;
+    int cull = CLVIS_CULL_NONE;
+    bool owned = false; ///< tile ownership: raster_setup.cl built with CLVIS_RASTER_OWNED
+    bool pixel = false; ///< RasterMapping::Pixel: raster_fine_pixel
+    std::uint32_t loop_limit = Device::Impl::loop_unlimited; ///< the device's, measured
+    std::uint32_t fine_chunk = 0xFFFFFFFFu; ///< bin entries per launch of raster_fine.cl
+    cl::Kernel clear, zero, vertices, setup, bin_count, bin_scan, bin_fill, fine;
+    cl::Kernel item_vertices, item_setup; ///< the same two stages for a chunk of items
+    std::size_t zero_group = 1, vertex_group = 1, setup_group = 1, bin_group = 1, scan_items = 1;
+    cl::NDRange fine_group;
+    cl::Buffer counters; ///< uint[2] triangles listed by setup (low, high word), ulong bin entries, ulong longest bin
+    cl::Buffer projected, tris, entries, tile_counts, offsets, cursors;
+    std::size_t projected_capacity = 0, tri_capacity = 0, entry_capacity = 0, tile_capacity = 0;
+    bool counts_zero = true; ///< tile_counts all zero (raster_bin_scan zeroes them once read)
+
+    Impl(Device::Impl& d, const RenderOptions& o)
+        : device(d), tile_log2(raster_tile_log2(o)), cull(cull_mode(o.cull)), owned(raster_owned(d.info, o)),
+          pixel(o.raster_mapping == RasterMapping::Pixel)
+    {
+    }
+
+    /// Edge in pixels of the square a work-item of raster_fine.cl owns.
+    std::size_t fine_square() const { return std::min<std::size_t>(std::size_t(1) << tile_log2, CLVIS_FINE_SUB); }
+
+    std::size_t granted(const cl::Kernel& k) const
+    {
+        return k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device.device);
+    }
+
+    // Sizing (raster_sizing.cpp).
+    void pick_groups();
+    /// Bin entries per launch of raster_fine.cl that keep its loops within half the device's
+    /// limit (half: a compiler may add passes that the source does not show). On Mesa 22.3's
+    /// llvmpipe (65535) that is 330 entries for raster_fine.
+    void plan_fine_chunks();
+    /// A zeroed device buffer. Made from host zeros rather than left undefined: Oclgrind 21.10 reported
+    /// kernel-written contents of fresh, uninitialised buffers as uninitialised once buffers of an
+    /// earlier Renderer on the same device had been released.
+    cl::Buffer make_buffer(std::size_t bytes) const;
+    /// Makes `buffer` hold at least `needed` elements of `size` bytes, growing geometrically.
+    void reserve(cl::Buffer& buffer, std::size_t& capacity, std::size_t needed, std::size_t size,
+                 std::size_t first, const char* what);
+    /// The counters and the list and bins at their first capacities (set_raster_first_capacities).
+    void make_growable_buffers();
+    /// Refuses a frame whose binning or scan loops would run past the device's loop limit.
+    void check_loops(std::size_t tiles_x, std::size_t tiles_y) const;
+    /// Refuses an image larger than the raster path draws; makes the tile bins for the frame.
+    void prepare_frame(Frame& frame);
+
+    // Launches (raster_pipeline.cpp).
+    /// Zeroes the first `count` 32-bit words of `buffer` (a kernel: Oclgrind then sees them written).
+    void zero_words(Frame& frame, cl::Buffer& buffer, std::size_t count, const char* stage);
+    /// The counters once the sample's stages ran (the one blocking read-back of a sample).
+    RasterCounts read_counts(Frame& frame);
+    /// raster_setup_vertices: every vertex projected and snapped once.
+    void project_vertices(const DeviceScene& scene, Frame& frame);
+    /// Runs a setup launch (`enqueue` sets its list arguments and enqueues it, signalling its
+    /// event), bins and draws what it lists (merged with the keys when `merge`), reads the counts
+    /// back; grows the list or bins and does it again until they held all (drawing again is
+    /// harmless: atomic min, merged by min, or every key written again).
+    template <class Enqueue> void draw_sample(Frame& frame, Enqueue enqueue, bool merge);
+    /// Sets the arguments of a setup kernel from `first` on: projected, cull, keys, the list,
+    /// its capacity, the counters and the region (raster_setup.cl's order).
+    void set_setup_outputs(cl::Kernel& k, cl_uint first, Frame& frame);
+    /// Draws frame.gpu_camera.sample: setup, binning, raster_fine.cl; projects the vertices first
+    /// when `project` (once per frame: they do not depend on the sample).
+    void render_sample(const DeviceScene& scene, Frame& frame, bool project);
+    /// Sets the item kernels' first arguments: camera, positions, (indices,) meshes, items, the chunk.
+    cl_uint set_item_args(cl::Kernel& k, const InstancedScene& scene, const ItemChunk& c, Frame& frame, bool indices);
+    /// A scene with instances: every chunk of items projected, set up and drawn per sample, each
+    /// merged into the keys (cleared first, whatever the depth test).
+    void render_items(const InstancedScene& scene, Frame& frame, std::size_t chunk_triangles);
+    /// Every sample of `frame` for a scene without instances (the clear included unless owned).
+    void render(const DeviceScene& scene, Frame& frame);
+    /// Bins what setup listed (the count read on the device, the launch over the list's capacity):
+    /// counts, scan, fill, within the bins' capacity.
+    void bin_listed(Frame& frame, int tiles_x, std::size_t tile_count);
+    /// raster_fine.cl over every square, for the bins' entries from `first` (a chunk of them on a
+    /// device that caps loops, all elsewhere); a launch after the first merges with the keys.
+    void launch_fine(Frame& frame, int tiles_x, cl_ulong first, bool merge);
+};
+
+} // namespace clvis::detail
