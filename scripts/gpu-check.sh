@@ -103,7 +103,9 @@ catch2() {
     cat "$work/list.txt"
     grep -Eq '^[1-9][0-9]* matching test case' "$work/list.txt" || { echo "the filter selects no test case"; return 1; }
     [ "$dry" = 1 ] && return 0
-    env "$@" "$tests" "$filter" --durations yes
+    # exec: timeout waits for the binary itself, so its last words (the totals, or the case a
+    # timeout's SIGTERM cut) are in the log before the END line.
+    exec env "$@" "$tests" "$filter" --durations yes
 }
 
 # The tool. Dry: render and bench check their arguments instead (every flag named in the
@@ -121,7 +123,7 @@ tool() {
         echo "dry run: clvis $* (arguments checked)"
         return
     fi
-    "$cli" "$@"
+    exec "$cli" "$@"
 }
 
 dry_or() { # a build command, echoed instead in a dry run
