@@ -17,9 +17,10 @@
 # are skipped, each saying so. Output: $OUT (default gpu-check-out/) holds summary.txt (a START
 # line before each step, its END or SKIP line after) and gpu-check-logs.tar.gz (every log, bench
 # files, clinfo, the tuning cache), both rewritten after every step, so a run cut short returns
-# what it did. Exits non-zero when a prerequisite is missing or a step failed or timed out.
+# what it did. Exits non-zero when a step failed or timed out, or when OpenCL does not list the
+# GPU that nvidia-smi sees.
 #
-#   bash scripts/gpu-check.sh                  # about 8 minutes on the H200 with 16 cores
+#   bash scripts/gpu-check.sh                  # 8 minutes at most (the deadline); 16 cores
 #   GPU_CHECK_DRY_RUN=1 bash scripts/gpu-check.sh   # no GPU, no build: each test step lists the
 #       cases its filter selects (none is a failure), each tool step checks its arguments
 #       (tests/gpu_check_dry.cmake, CTest gpu_check_dry)
