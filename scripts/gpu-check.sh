@@ -1,104 +1,392 @@
 #!/usr/bin/env bash
-# The GPU check of issue #21 in one command, for a machine with an NVIDIA GPU (the lent H100/H200:
-# Ubuntu 24.04, PoCL 5 and NVIDIA's OpenCL installed, no OpenImageIO, Embree, Mesa or network):
-#   1. registers NVIDIA's OpenCL driver beside the installed ICDs (it ships unregistered there);
-#   2. builds clvis without the image layer and the reference renderers (what that machine lacks);
-#   3. runs the device suite (the mapping tests among it), the agreement suite, the raster-rule and
-#      tile-ownership checks and both ray mappings (packet, single) on each device found: NVIDIA's
-#      GPU, then PoCL's CPU device (all cores);
-#   4. runs `clvis bench --quick` on each, clvis against itself only (no reference renderer there),
-#      and 1080p renders of both paths, of both raster mappings (Auto's choice in devices-tuned.txt)
-#      and of both ray mappings.
-# Writes everything under $OUT (default gpu-check-out/): clinfo, test logs, bench.json / .csv per
-# device, and summary.txt (one line per step with its exit status and seconds). Exits non-zero
-# when any step failed; every step runs regardless, so one run reports everything.
+# The GPU check (issues #21, #38) in one command, for the lent NVIDIA machine (README of the device
+# tool: Ubuntu 24.04, CMake, ninja, g++ 13, Python; NVIDIA's driver under a read-only
+# /usr/local/nvidia; PoCL perhaps; no package registry). Run scripts/gpu-prereqs.sh here first
+# and carry .gpu-deps: Catch2, CLI11, nlohmann-json, the OpenCL headers, loader and clinfo.
+#   1. preflight: the prerequisites (image or .gpu-deps; "missing: ..." in the summary), the GPU
+#      as nvidia-smi sees it, NVIDIA's OpenCL driver found and registered beside the image's ICDs;
+#   2. builds the tool and the tests as two targets (no image layer, references, Python or MPI);
+#      each later step needs only its own binary;
+#   3. on the GPU: the device suite, the agreement suite, the raster-rule cases, the float-only
+#      exact fallback, the GPU's keys against PoCL's bit for bit (where PoCL is there),
+#      `clvis bench --quick`, timed 1080p renders (the 1M sphere and the bunny, both paths and
+#      mappings: the anchors of the closing note), and the slow device cases.
+# CI runs everything else on PoCL: nothing here repeats it.
 #
-#   bash scripts/gpu-check.sh            # everything (about 10 minutes on an H100 + 16 cores)
-#   GPU_CHECK_QUICK=1 bash scripts/gpu-check.sh   # device suite and bench only
+# Time: each step has a timeout; after GPU_CHECK_DEADLINE_S seconds (default 480) the steps left
+# are skipped, each saying so. Output: $OUT (default gpu-check-out/) holds summary.txt (a START
+# line before each step, its END or SKIP line after) and gpu-check-logs.tar.gz (every log, bench
+# files, clinfo, the tuning cache), both rewritten after every step, so a run cut short returns
+# what it did. Exits non-zero when a step failed or timed out, or when OpenCL does not list the
+# GPU that nvidia-smi sees.
+#
+#   bash scripts/gpu-check.sh                  # 8 minutes at most (the deadline); 16 cores
+#   GPU_CHECK_DRY_RUN=1 bash scripts/gpu-check.sh   # no GPU, no build: each test step lists the
+#       cases its filter selects (none is a failure), each tool step checks its arguments
+#       (tests/gpu_check_dry.cmake, CTest gpu_check_dry)
+# Knobs: GPU_CHECK_BUILD (build folder, default build-gpu), GPU_CHECK_TESTS / GPU_CHECK_CLI (use
+# these binaries, build nothing), GPU_CHECK_DEVICE (default NVIDIA), GPU_CHECK_WORK (logs folder).
 set -uo pipefail
 cd "$(dirname "$0")/.." || exit 1
+root=$PWD
+t0=$(date +%s)
+deadline=${GPU_CHECK_DEADLINE_S:-480}
+dry=${GPU_CHECK_DRY_RUN:-0}
 out=${OUT:-gpu-check-out}
-mkdir -p "$out"
+mkdir -p "$out" && out=$(cd "$out" && pwd) || exit 1
+work=${GPU_CHECK_WORK:-$(mktemp -d /tmp/gpu-check.XXXXXX)}
+logs=$work/logs
+mkdir -p "$logs" || exit 1
 summary=$out/summary.txt
-export CLVIS_CACHE_DIR="$(cd "$out" && pwd)/cache" # Auto's measurements come back with the rest
+tarball=$out/gpu-check-logs.tar.gz
+build=${GPU_CHECK_BUILD:-build-gpu}
+gpu=${GPU_CHECK_DEVICE:-NVIDIA}
+deps=$root/.gpu-deps/root
+failed=() skipped=0
 : >"$summary"
-failed=0
-jobs=$(nproc)
+# The driver's tools where the image leaves them off the PATH (nvidia-smi with its libraries).
+[ -d /usr/local/nvidia/bin ] && export PATH=$PATH:/usr/local/nvidia/bin
 
-step() { # step NAME LOG COMMAND...: runs COMMAND, its output to LOG, a line in the summary
-    local name=$1 log=$2 t0 rc
-    shift 2
-    t0=$(date +%s)
-    "$@" >"$log" 2>&1
-    rc=$?
-    printf '%-48s rc=%-3d %5ds  %s\n' "$name" "$rc" "$(( $(date +%s) - t0 ))" "$log" | tee -a "$summary"
-    [ "$rc" -eq 0 ] || failed=1
-    return 0
+say() { echo "$*" | tee -a "$summary"; }
+elapsed() { echo $(($(date +%s) - t0)); }
+
+# summary.txt and the tarball of $logs into $OUT; the tarball is written beside and renamed, so
+# a kill mid-write leaves the last whole one. Program binaries (*.bin) and meshes stay out.
+refresh() {
+    tar -czf "$out/.logs.partial" -C "$work" --exclude='*.bin' --exclude='*.ply' logs 2>/dev/null &&
+        mv -f "$out/.logs.partial" "$tarball"
 }
 
-# 1. NVIDIA's OpenCL beside what is registered (NOTES.md: the driver is installed, not registered).
-vendors=$(mktemp -d)
-cp /etc/OpenCL/vendors/*.icd "$vendors"/ 2>/dev/null || true
-for lib in /usr/lib/x86_64-linux-gnu/libnvidia-opencl.so.1 /usr/lib/libnvidia-opencl.so.1 \
-           /usr/lib64/libnvidia-opencl.so.1; do
-    if [ -e "$lib" ]; then echo "$lib" >"$vendors/nvidia.icd"; break; fi
-done
-export OCL_ICD_VENDORS=$vendors
-{ command -v clinfo >/dev/null && clinfo; } >"$out/clinfo.txt" 2>&1 || true
-{ command -v nvidia-smi >/dev/null && nvidia-smi; } >"$out/nvidia-smi.txt" 2>&1 || true
-
-# 2. Build: the core, the tool and the tests; no OpenImageIO, no reference renderers, no Python.
-build=${GPU_CHECK_BUILD:-build-gpu}
-step "configure" "$out/configure.log" cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release \
-    -DCLVIS_WITH_IMAGE_IO=OFF -DCLVIS_BUILD_BENCH_REFERENCES=OFF -DCLVIS_BUILD_PYTHON=OFF
-step "build" "$out/build.log" cmake --build "$build" -j "$jobs"
-if [ ! -x "$build/tests/clvis_tests" ]; then
-    echo "clvis_tests did not build: see $out/build.log" | tee -a "$summary"
-    exit 1
-fi
-
-# 3. and 4. per device: the names are matched against platform and device names (Device::open).
-"$build/clvis" devices >"$out/devices.txt" 2>&1 || true
-devices=()
-grep -qi nvidia "$out/devices.txt" && devices+=("NVIDIA")
-grep -qi "portable computing language\|pocl" "$out/devices.txt" && devices+=("portable computing language")
-if [ ${#devices[@]} -eq 0 ]; then
-    echo "no OpenCL device found: see $out/devices.txt and $out/clinfo.txt" | tee -a "$summary"
-    exit 1
-fi
-for dev in "${devices[@]}"; do
-    tag=$(echo "$dev" | tr ' A-Z' '_a-z')
-    export CLVIS_DEVICE=$dev
-    step "device suite on $dev" "$out/device-$tag.log" \
-        "$build/tests/clvis_tests" "[device]~[slow]~[.]" --durations yes
-    if [ -z "${GPU_CHECK_QUICK:-}" ]; then
-        step "agreement suite (slow cases) on $dev" "$out/agree-slow-$tag.log" \
-            "$build/tests/clvis_tests" "[agree][slow]" --durations yes
-        step "raster rule, tile ownership, regions on $dev" "$out/modes-$tag.log" \
-            "$build/tests/clvis_tests" "[rule],[raster_atomics],[region]" --durations yes
-        step "ray mappings (packet, single) on $dev" "$out/ray-mapping-$tag.log" \
-            "$build/tests/clvis_tests" "the single mapping*" --durations yes
-        step "float-only exact fallback on $dev" "$out/exact-float-$tag.log" env CLVIS_EXACT_FLOAT=1 \
-            "$build/tests/clvis_tests" "a plane face-on*,triangles seen edge-on*,rays aimed exactly at shared edges*,the single mapping gives the packet mapping's keys where the exact fallback runs"
+# step NAME TIMEOUT LOGFILE COMMAND...: a START line, COMMAND under timeout (capped by the global
+# deadline) with its output in $logs/LOGFILE, then an END line with status, seconds and, for the
+# test binary, Catch2's totals. Past the deadline: a SKIP line instead.
+step() {
+    local name=$1 limit=$2 log=$3 left start rc status totals
+    shift 3
+    left=$((t0 + deadline - $(date +%s)))
+    if [ "$left" -lt 5 ]; then
+        say "+$(elapsed)s SKIP  $name: the global deadline (${deadline} s) has passed"
+        skipped=$((skipped + 1))
+        refresh
+        return 1
     fi
-    step "clvis bench --quick on $dev" "$out/bench-$tag.log" \
-        "$build/clvis" bench --quick --no-plot --device "$dev" --out "$out/bench-$tag"
-    for run in raster ray:packet ray:single; do
-        path=${run%%:*} mapping=()
-        [ "$path" = "$run" ] || mapping=(--ray-mapping "${run#*:}")
-        step "clvis render bunny 1920x1080 $run on $dev" "$out/render-${run/:/-}-$tag.log" \
-            "$build/clvis" render scenes/stanford-bunny.obj --path "$path" "${mapping[@]}" --width 1920 \
-            --height 1080 --repeat 20 --timings --json --device "$dev"
+    [ "$limit" -le "$left" ] || limit=$left
+    say "+$(elapsed)s START $name (timeout ${limit} s) [$log]"
+    refresh
+    start=$(date +%s)
+    # bash -c: the step may be one of the functions below (exported); timeout signals the
+    # whole process group, the test binary or the tool under the function included.
+    timeout -k 5 "$limit" bash -c '"$@"' step "$@" >"$logs/$log" 2>&1
+    rc=$?
+    case $rc in
+    0) status=ok ;;
+    124 | 137) status="TIMEOUT after ${limit} s"; failed+=("$name") ;;
+    *) status="FAILED rc=$rc"; failed+=("$name") ;;
+    esac
+    totals=$(grep -E '^(All tests passed|test cases|[0-9]+ matching test case)' "$logs/$log" | tail -n 1)
+    say "+$(elapsed)s END   $name: $status ($(($(date +%s) - start)) s)${totals:+; $totals}"
+    refresh
+    return $rc
+}
+
+skip() { # skip NAME REASON: a step that cannot run, and why
+    say "+$(elapsed)s SKIP  $1: $2"
+    skipped=$((skipped + 1))
+}
+
+# Catch2 through the test binary: the cases FILTER selects, listed, then run with their times. A
+# filter that selects nothing fails here (Catch2 2.x would pass it with exit 0; 3.x has no
+# -w NoTests). Dry: the list only.
+catch2() {
+    local filter=$1
+    shift
+    env "$@" "$tests" "$filter" --list-tests >"$work/list.txt" 2>&1
+    cat "$work/list.txt"
+    grep -Eq '^[1-9][0-9]* matching test case' "$work/list.txt" || { echo "the filter selects no test case"; return 1; }
+    [ "$dry" = 1 ] && return 0
+    # exec: timeout waits for the binary itself, so its last words (the totals, or the case a
+    # timeout's SIGTERM cut) are in the log before the END line.
+    exec env "$@" "$tests" "$filter" --durations yes
+}
+
+# The tool. Dry: render and bench check their arguments instead (every flag named in the
+# subcommand's --help, every value through its validators) and `clvis info` loads the mesh.
+tool() {
+    if [ "$dry" = 1 ] && { [ "$1" = render ] || [ "$1" = bench ]; }; then
+        local help a
+        help=$("$cli" "$@" --help) || return 1 # CLI11 checks the values even with --help
+        for a in "${@:2}"; do
+            case $a in
+            --*) grep -qE -- "(^|[ ,])$a([ =,]|\$)" <<<"$help" || { echo "clvis $1 has no flag $a"; return 1; } ;;
+            esac
+        done
+        [ "$1" != render ] || "$cli" info "$2" || return 1
+        echo "dry run: clvis $* (arguments checked)"
+        return
+    fi
+    exec "$cli" "$@"
+}
+
+dry_or() { # a build command, echoed instead in a dry run
+    if [ "$dry" = 1 ]; then echo "dry run: $*"; else "$@"; fi
+}
+export -f catch2 tool dry_or
+export dry work
+
+say "gpu-check $(date -u +%Y-%m-%dT%H:%M:%SZ), commit $(git rev-parse --short HEAD 2>/dev/null || echo '?')," \
+    "deadline ${deadline} s$([ "$dry" = 1 ] && echo ', DRY RUN (no GPU, no build)')"
+refresh
+
+# --- 1. preflight ------------------------------------------------------------------------------
+{
+    echo "== uname"; uname -a
+    echo "== os"; head -n 2 /etc/os-release 2>/dev/null
+    echo "== cores"; nproc
+    echo "== tools"; for t in cmake ninja c++ g++ python3 timeout tar; do echo "$t: $(command -v $t)"; done
+    cmake --version 2>&1 | head -n 1; c++ --version 2>&1 | head -n 1
+    echo "== carried (.gpu-deps)"; cat "$root/.gpu-deps/MANIFEST.txt" 2>/dev/null || echo none
+    echo "== nvidia-smi"; timeout 30 nvidia-smi 2>&1
+    echo "== OpenCL drivers and .icd files on disk"
+    timeout 30 find /usr/local/nvidia /usr/lib /usr/lib64 /lib /etc/OpenCL /usr/share/OpenCL /usr/local/cuda/ \
+        -maxdepth 4 \( -name '*nvidia-opencl*' -o -name 'libOpenCL.so*' -o -name '*.icd' \) 2>/dev/null
+    echo "LD_LIBRARY_PATH=${LD_LIBRARY_PATH:-}"
+} >"$logs/preflight.txt" 2>&1
+gpu_name=$(timeout 30 nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv,noheader 2>/dev/null |
+    head -n 1)
+say "host: $(nproc) cores; $(. /etc/os-release 2>/dev/null && echo "$PRETTY_NAME"); nvidia-smi: ${gpu_name:-no GPU}"
+
+# Each prerequisite in the image or in .gpu-deps (scripts/gpu-prereqs.sh); a miss is said here,
+# and the configure that needs it still runs, so its log says the rest.
+have() { # have NAME PATH...: the first that exists, else a "missing" line
+    local name=$1 p
+    shift
+    for p in "$@"; do [ -e "$p" ] && return 0; done
+    say "missing: $name (looked in: $*; run scripts/gpu-prereqs.sh here and carry .gpu-deps)"
+    return 1
+}
+inc=(/usr/include /usr/local/include "$deps/usr/include")
+have "Catch2" "${inc[@]/%//catch2/catch.hpp}" "${inc[@]/%//catch2/catch_all.hpp}"
+have "CLI11" "${inc[@]/%//CLI/CLI.hpp}"
+have "nlohmann-json" "${inc[@]/%//nlohmann/json.hpp}"
+have "OpenCL C headers" "${inc[@]/%//CL/cl.h}"
+have "OpenCL C++ bindings" "${inc[@]/%//CL/opencl.hpp}"
+loader=$(ldconfig -p 2>/dev/null | awk '/libOpenCL\.so\.1 .*x86-64/ {print $NF; exit}')
+have "OpenCL ICD loader" $loader "$deps/usr/lib/x86_64-linux-gnu/libOpenCL.so.1"
+for t in cmake c++ timeout tar python3; do command -v $t >/dev/null || say "missing: $t"; done
+generator=()
+command -v ninja >/dev/null && generator=(-G Ninja)
+prefix=()
+if [ -d "$deps/usr" ]; then
+    # The carried packages first: CMake finds their configs and headers, and links their loader.
+    prefix=(-DCMAKE_PREFIX_PATH="$deps/usr")
+    export LD_LIBRARY_PATH=$deps/usr/lib/x86_64-linux-gnu${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+    export PATH=$PATH:$deps/usr/bin
+fi
+
+# NVIDIA's OpenCL driver: shipped unregistered (no nvidia.icd) on the machines seen. The ICD
+# loader dlopens what an .icd file names, so the first libnvidia-opencl.so.1 found is written
+# into a vendors folder of ours beside a copy of every registered .icd (PoCL's among them).
+nv_lib="" nv_how=""
+nv_lib=$(ldconfig -p 2>/dev/null | awk '/libnvidia-opencl\.so\.1 .*x86-64/ {print $NF; exit}')
+[ -n "$nv_lib" ] && nv_how="ldconfig -p"
+if [ -z "$nv_lib" ]; then
+    # The soname link first; a driver folder copied without its links has only the versioned file.
+    for d in /usr/local/nvidia/lib64 /usr/local/nvidia/lib /usr/lib/x86_64-linux-gnu /usr/lib64 /usr/lib \
+             /lib/x86_64-linux-gnu /lib64 /lib; do
+        for f in "$d/libnvidia-opencl.so.1" "$d"/libnvidia-opencl.so.[0-9]*.*; do
+            [ -e "$f" ] && { nv_lib=$f nv_how="search of $d"; break 2; }
+        done
     done
-    # The raster fine stage's two mappings at 1080p, against Auto's choice in the render above.
-    for mapping in square pixel; do
-        step "clvis render bunny 1920x1080 raster $mapping on $dev" "$out/render-raster-$mapping-$tag.log" \
-            "$build/clvis" render scenes/stanford-bunny.obj --raster-mapping "$mapping" --width 1920 --height 1080 \
-            --repeat 20 --json --device "$dev"
-    done
+fi
+if [ -z "$nv_lib" ]; then
+    nv_lib=libnvidia-opencl.so.1 nv_how="not found: the bare soname, left to the dynamic linker"
+elif [ "$nv_how" != "ldconfig -p" ]; then
+    # Its own dependencies (libcuda.so.1 beside it) then resolve from the same folder.
+    export LD_LIBRARY_PATH=$(dirname "$nv_lib")${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+fi
+vendors=$work/vendors
+mkdir -p "$vendors"
+icds=()
+for f in /etc/OpenCL/vendors/*.icd /usr/local/nvidia/etc/OpenCL/vendors/*.icd /usr/share/OpenCL/vendors/*.icd; do
+    [ -e "$f" ] || continue
+    icds+=("$f -> $(head -c 200 "$f" | tr -d '\n')")
+    cp "$f" "$vendors/" 2>/dev/null
 done
-unset CLVIS_DEVICE
-# RasterMapping::Auto's measured choices per device (kept in $out/cache, listed by clvis devices).
-"$build/clvis" devices >"$out/devices-tuned.txt" 2>&1 || true
-echo "summary: $summary" >&2
-exit "$failed"
+grep -qil nvidia "$vendors"/*.icd 2>/dev/null || echo "$nv_lib" >"$vendors/nvidia.icd"
+export OCL_ICD_VENDORS=$vendors
+pocl=0
+grep -qil pocl "$vendors"/*.icd 2>/dev/null && pocl=1
+say "NVIDIA OpenCL driver: $nv_lib ($nv_how)"
+say "registered .icd files: ${icds[*]:-none}; used: $(cd "$vendors" && ls | tr '\n' ' ')"
+cp -r "$vendors" "$logs/vendors"
+
+# OpenCL as the loader sees it, before anything is built. clinfo-l.txt only once clinfo -l has
+# finished: a clinfo cut by its timeout proves nothing about the GPU.
+opencl_list() {
+    clinfo -l >"$logs/.clinfo-l" 2>&1
+    mv "$logs/.clinfo-l" "$logs/clinfo-l.txt"
+    clinfo
+}
+export -f opencl_list
+export logs
+if command -v clinfo >/dev/null; then
+    step "clinfo" 60 clinfo.txt opencl_list
+else
+    skip "clinfo" "no clinfo in the image or .gpu-deps"
+fi
+# nvidia-smi sees a GPU, OpenCL lists none: everything after would test the wrong thing.
+gpu_missing() { # by what clinfo -l and clvis devices listed, where they ran
+    [ -n "$gpu_name" ] || return 1
+    [ -e "$logs/clinfo-l.txt" ] || [ -e "$logs/devices.txt" ] || return 1
+    ! grep -qi nvidia "$logs/clinfo-l.txt" "$logs/devices.txt" 2>/dev/null
+}
+check_gpu_listed() { # check_gpu_listed WHERE
+    gpu_missing || return 0
+    say "FAIL: nvidia-smi sees '$gpu_name' but OpenCL lists no NVIDIA device ($1); NVIDIA driver" \
+        "tried: $nv_lib ($nv_how); see clinfo.txt, devices.txt and vendors/ in the tarball"
+    [[ " ${failed[*]} " == *" NVIDIA OpenCL device "* ]] || failed+=("NVIDIA OpenCL device")
+}
+check_gpu_listed "clinfo -l"
+refresh
+
+# --- 2. build: the tool and the tests, each its own target -------------------------------------
+tests=${GPU_CHECK_TESTS:-$root/$build/tests/clvis_tests}
+cli=${GPU_CHECK_CLI:-$root/$build/clvis}
+if [ "$dry" = 1 ] || [ -z "${GPU_CHECK_TESTS:-}${GPU_CHECK_CLI:-}" ]; then
+    step "configure" 120 configure.log dry_or cmake -S . -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release \
+        "${prefix[@]}" -DCLVIS_WITH_IMAGE_IO=OFF -DCLVIS_BUILD_BENCH_REFERENCES=OFF -DCLVIS_BUILD_PYTHON=OFF \
+        -DCLVIS_WITH_MPI=OFF
+    step "build the tool (clvis_cli)" 240 build-cli.log dry_or cmake --build "$build" --target clvis_cli -j "$(nproc)"
+    step "build the tests (clvis_tests)" 300 build-tests.log dry_or cmake --build "$build" --target clvis_tests -j "$(nproc)"
+    cp "$build/CMakeCache.txt" "$logs/" 2>/dev/null
+fi
+[ -x "$tests" ] || tests=""
+[ -x "$cli" ] || cli=""
+export tests cli
+say "binaries: tests ${tests:-NOT BUILT}, tool ${cli:-NOT BUILT}"
+
+# --- 3. on the GPU -----------------------------------------------------------------------------
+export CLVIS_CACHE_DIR=$logs/cache CLVIS_TEST_CACHE_DIR=$logs/cache # tuned choices come back
+if [ -n "$cli" ]; then
+    step "clvis devices" 60 devices.txt tool devices
+    check_gpu_listed "clvis devices"
+fi
+why=""
+if gpu_missing; then
+    tests="" cli="" why="OpenCL lists no NVIDIA device (see the FAIL line)"
+fi
+export CLVIS_DEVICE=$gpu
+no_tests=${why:-clvis_tests was not built}
+no_cli=${why:-the tool was not built}
+
+# The device suite: what CI runs as the CTest entry "device", less what holds only on PoCL's CPU
+# device or needs what this machine lacks, and less the parts that run as their own steps below.
+device_filter=(
+    "[device]~[.]"
+    "~[slow]"          # the slow cases: their own step, last
+    "~[agree]"         # the agreement suite: its own step
+    "~[rule]"          # the raster-rule cases: their own step
+    "~[pocl]"          # asserts PoCL's CPU device (type cpu) or PoCL's own program cache
+    "~[multi_device]"  # each case opens every CPU device (cpu_devices(), multi_device_test.cpp)
+    "~[gltf]"          # needs /usr/share/assimp/models/glTF2 (assimp-testmodels), not on that machine
+    # opens Device::open("cpu"): fails where no CPU device is registered (no PoCL there)
+    "~\"devices are picked by index*\""
+)
+agree_filter="[device][agree]~[.]~[gltf]" # fast and slow; the glTF samples case as above
+rule_filter="[device][rule]~[.]~[slow]"
+slow_filter="[device][slow]~[.]~[agree]~[multi_device]~[pocl]"
+# As the CTest entry device_exact_float: the watertightness cases with every kernel built with
+# the float-only exact edge fallback (CLVIS_EXACT_FLOAT=1), the form devices without fp64 use.
+exact_float_filter="a plane face-on*,triangles seen edge-on*,a tessellated plane edge-on*,rays aimed exactly at shared edges*,the BVH path gives the brute path's keys,ray queries through the BVH equal brute force and the oracle,the single mapping gives the packet mapping's keys where the exact fallback runs"
+
+if [ -n "$tests" ]; then
+    step "device suite on $gpu" 150 device.log catch2 "$(printf '%s' "${device_filter[@]}")"
+    step "agreement suite on $gpu" 150 agree.log catch2 "$agree_filter"
+    step "raster-rule cases on $gpu" 60 rule.log catch2 "$rule_filter"
+    step "float-only exact fallback on $gpu" 90 exact-float.log catch2 "$exact_float_filter" CLVIS_EXACT_FLOAT=1
+    # The GPU's keys against PoCL's, bit for bit where both round division and square root
+    # correctly (reference_device_test.cpp): the one comparison CI cannot make.
+    if [ "$pocl" = 1 ]; then
+        step "keys on $gpu against PoCL's" 120 reference-pocl.log catch2 "[.reference]" \
+            "CLVIS_REFERENCE_DEVICE=portable computing language"
+    else
+        skip "keys on $gpu against PoCL's" "no PoCL .icd registered in the image"
+    fi
+else
+    for s in "device suite on $gpu" "agreement suite on $gpu" "raster-rule cases on $gpu" \
+             "float-only exact fallback on $gpu" "keys on $gpu against PoCL's"; do
+        skip "$s" "$no_tests"
+    done
+fi
+
+# Timings: the quick sweep judged by the referee, then 1080p renders of the closing note's
+# anchors (cudaraster on an H100: bunny 0.30 ms, 1M sphere 1.04 ms) and of each fine-stage and
+# ray mapping on the bunny (Auto's choices are in the tarball's cache/ and devices-tuned.txt).
+export sphere=$work/sphere-1M.ply
+make_sphere() { # make_uv_sphere(2^20)'s mesh (host/scene/procedural.cpp) as a binary PLY
+    local py
+    for py in python3 /usr/bin/python3; do "$py" -c 'import numpy' 2>/dev/null && break; done
+    "$py" - "$sphere" <<'EOF'
+import sys, numpy as np
+t = float(1 << 20)
+stacks = max(2, int(np.floor((1 + np.sqrt(1 + t)) / 2 + 0.5)))
+seg = max(4, int(np.floor(t / (2 * (stacks - 1)) + 0.5)))
+th = np.arange(1, stacks) / (2.0 * stacks) * 2 * np.pi
+ph = np.arange(seg) / float(seg) * 2 * np.pi
+st, ct = np.sin(th)[:, None], np.cos(th)[:, None]
+ring = np.stack([st * np.cos(ph), np.broadcast_to(ct, (stacks - 1, seg)), st * np.sin(ph)], -1).reshape(-1, 3)
+pos = np.concatenate([[[0, 1, 0]], ring, [[0, -1, 0]]]).astype('<f4')
+south = 1 + (stacks - 1) * seg
+r = lambda i, j: 1 + (i - 1) * seg + j % seg
+j = np.arange(seg)
+tri = [np.stack([np.zeros(seg, int), r(1, j + 1), r(1, j)], 1)]
+for i in range(1, stacks - 1):
+    a, b, c, d = r(i, j), r(i, j + 1), r(i + 1, j), r(i + 1, j + 1)
+    tri.append(np.stack([np.stack([a, d, c], 1), np.stack([a, b, d], 1)], 1).reshape(-1, 3))
+tri.append(np.stack([np.full(seg, south), r(stacks - 1, j), r(stacks - 1, j + 1)], 1))
+idx = np.concatenate(tri).astype('<u4')
+face = np.zeros(len(idx), dtype=[('n', 'u1'), ('v', '<u4', 3)]); face['n'] = 3; face['v'] = idx
+with open(sys.argv[1], 'wb') as f:
+    f.write(('ply\nformat binary_little_endian 1.0\nelement vertex %d\nproperty float x\nproperty float y\n'
+             'property float z\nelement face %d\nproperty list uchar uint vertex_indices\nend_header\n'
+             % (len(pos), len(idx))).encode())
+    f.write(pos.tobytes()); f.write(face.tobytes())
+print(len(pos), 'vertices', len(idx), 'triangles')
+EOF
+}
+export -f make_sphere
+if [ -n "$cli" ]; then
+    step "clvis bench --quick on $gpu" 150 bench.log tool bench --quick --no-plot --device "$gpu" --out "$logs/bench"
+    if step "1M-triangle sphere (make_uv_sphere) as PLY" 30 sphere.log make_sphere && [ -s "$sphere" ]; then
+        for p in raster ray; do
+            step "render sphere-1M 1920x1080 $p on $gpu" 60 "render-sphere-$p.log" \
+                tool render "$sphere" --path "$p" --width 1920 --height 1080 --repeat 20 --timings --json --device "$gpu"
+        done
+    else
+        skip "render sphere-1M 1920x1080 raster and ray on $gpu" "no sphere-1M.ply (see sphere.log)"
+    fi
+    for run in raster:square raster:pixel ray:packet ray:single; do
+        p=${run%%:*} m=${run#*:}
+        step "render bunny 1920x1080 $p $m on $gpu" 60 "render-bunny-$p-$m.log" \
+            tool render scenes/stanford-bunny.obj --path "$p" "--$p-mapping" "$m" --width 1920 --height 1080 \
+            --repeat 20 --timings --json --device "$gpu"
+    done
+else
+    skip "clvis bench --quick and the 1080p renders on $gpu" "$no_cli"
+fi
+if [ -n "$tests" ]; then
+    step "slow device cases on $gpu" 120 slow.log catch2 "$slow_filter"
+else
+    skip "slow device cases on $gpu" "$no_tests"
+fi
+# Auto's choices, as measured on the GPU.
+[ -n "$cli" ] && [ "$(elapsed)" -lt "$deadline" ] && timeout 30 bash -c 'tool devices' >"$logs/devices-tuned.txt" 2>&1
+
+if [ ${#failed[@]} -eq 0 ]; then
+    say "+$(elapsed)s result: ok ($skipped skipped)"
+else
+    say "+$(elapsed)s result: FAILED: $(printf '%s; ' "${failed[@]}")($skipped skipped)"
+fi
+refresh
+say "outputs: $(cd "$out" && ls | tr '\n' ' ')(tarball $(du -k "$tarball" | cut -f1) KiB)"
+[ ${#failed[@]} -eq 0 ]
