@@ -1,7 +1,8 @@
 // The raster path's two depth tests: 64-bit atomic min (RasterAtomics::On) and tile ownership
 // (Off), chosen by Auto from the device's extensions. Tile ownership builds with no 64-bit atomic
 // in its kernels, runs where a device has none, and gives the atomic test's keys bit for bit
-// (raster_test.cpp and paths_agree_test.cpp compare the two modes on every frame they draw).
+// (raster_test.cpp and the agreement suite, agree_harness.cpp, compare the two modes on every
+// frame they draw).
 #include "catch.hpp"
 #include "test_meshes.hpp"
 
