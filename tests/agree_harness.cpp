@@ -71,7 +71,7 @@ std::size_t raster_rule_differ(const Renderer& renderer, const Scene& scene, con
     // 65535, kernels/device_probe.cl) it is cut short, a known limit of the brute path (the BVH
     // path stays far below it). Checked on every device without such a cap.
     Device device = renderer.device();
-    bool capped = device.impl()->loop_limit() != Device::Impl::loop_unlimited;
+    bool capped = detail::DeviceAccess::of(device, "test").loop_limit() != Device::Impl::loop_unlimited;
     for (Path p : {Path::Ray, Path::Brute}) {
         if (p == Path::Brute && (!brute || capped)) continue;
         std::size_t d = test::differing_bits(raster, twin.render(cam, w, h, p).read());

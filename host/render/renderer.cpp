@@ -158,7 +158,7 @@ RayPipeline& Renderer::Impl::ray_pipeline(bool need_bvh, bool primary_rays)
 
 Renderer::Renderer(Device device, const Scene& scene, RenderOptions options) : impl_(std::make_unique<Impl>())
 {
-    device.checked("Renderer");
+    DeviceAccess::of(device, "Renderer");
     check_options(options);
     error_boundary("making a Renderer", [&] {
         impl_->device = std::move(device);
