@@ -21,17 +21,17 @@ constexpr double closeup_fraction = 0.35;
 /// bounding sphere, so the framing rule 0.9 (dist - R) could be negative.
 constexpr double closeup_near_fraction = 0.05;
 /// Brute force (one ray against every triangle) only on small scenes, and only while
-/// triangles x pixels (ray-triangle tests per frame) stays under a budget: it ran at about 25M
-/// tests/s here (PoCL, 2 busy cores), so 6e7 tests are a few seconds a frame. Small images of
-/// small meshes (the "brute" sweep) give it points of its own.
+/// triangles x pixels (ray-triangle tests per frame) stays under a budget of a few seconds a
+/// frame on PoCL's CPU device. Small images of small meshes (the "brute" sweep) give it points of
+/// its own.
 constexpr std::size_t brute_max_triangles = 16384;
 constexpr double brute_max_tests_full = 6e7;
 constexpr double brute_max_tests_quick = 2.5e7;
 /// Timed brute-force frames at most (each may take a second).
 constexpr int brute_repeat = 3;
-/// Timed BVH builds per builder and pass (alternating, see make_renderers): on this VM a build
-/// of 1M triangles spreads over 2x from one to the next (its page faults' cost varies), so the
-/// full sweep takes five for a steadier median.
+/// Timed BVH builds per builder and pass (alternating, see make_renderers): a build of 1M
+/// triangles varies widely from one to the next (its page faults' cost varies), so the full
+/// sweep takes five for a steadier median.
 constexpr int builds_full = 5;
 constexpr int builds_quick = 2;
 /// Scenes above this many triangles get one timed BVH build per builder (each takes seconds).

@@ -37,7 +37,7 @@ def measure(renderer, camera, width, height, path, calls, out):
         end = time.perf_counter_ns()
         whole.append((end - start) * 1e-9)
         inner.append(vis._call_seconds)
-        span = getattr(vis, "_call_span_ns", None)  # absent before the breakdown was added
+        span = getattr(vis, "_call_span_ns", None)  # absent from builds without the breakdown
         if span:
             entry.append((span[0] - start) * 1e-9)
             exit_.append((returned - span[1]) * 1e-9)

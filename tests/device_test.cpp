@@ -86,7 +86,7 @@ TEST_CASE("every embedded kernel builds on the device", "[device][rusticl]")
     for (const auto& k : detail::embedded_kernels()) {
         for (const std::string& o : options(k.name)) {
             INFO("kernel file " << k.name << " with '" << o << "'");
-            CHECK_NOTHROW(d.impl()->program(k.name, o));
+            CHECK_NOTHROW(detail::DeviceAccess::of(d, "test").program(k.name, o));
         }
     }
 }
@@ -95,7 +95,8 @@ TEST_CASE("a kernel that fails to build raises an error carrying the build log",
 {
     Device d = Device::open();
     try {
-        d.impl()->build_source("broken.cl", "__kernel void broken(__global int* p) { p[0] = undeclared_name; }", "");
+        detail::DeviceAccess::of(d, "test").build_source(
+            "broken.cl", "__kernel void broken(__global int* p) { p[0] = undeclared_name; }", "");
         FAIL("a broken kernel built");
     } catch (const Error& e) {
         std::string msg = e.what();

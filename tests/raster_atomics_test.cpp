@@ -1,7 +1,8 @@
 // The raster path's two depth tests: 64-bit atomic min (RasterAtomics::On) and tile ownership
 // (Off), chosen by Auto from the device's extensions. Tile ownership builds with no 64-bit atomic
 // in its kernels, runs where a device has none, and gives the atomic test's keys bit for bit
-// (raster_test.cpp and paths_agree_test.cpp compare the two modes on every frame they draw).
+// (raster_test.cpp and the agreement suite, agree_harness.cpp, compare the two modes on every
+// frame they draw).
 #include "catch.hpp"
 #include "test_meshes.hpp"
 
@@ -90,7 +91,8 @@ TEST_CASE("the tile-ownership raster kernels name no 64-bit atomic and enable no
         CHECK(owned.find("atom_") == std::string::npos);
         CHECK(owned.find("cl_khr_int64") == std::string::npos);
         CHECK(owned.find("__kernel") != std::string::npos);
-        CHECK_NOTHROW(d.impl()->program(name, std::string(name) == "raster_setup" ? "-DCLVIS_RASTER_OWNED" : ""));
+        const char* owned_option = std::string(name) == "raster_setup" ? "-DCLVIS_RASTER_OWNED" : "";
+        CHECK_NOTHROW(detail::DeviceAccess::of(d, "test").program(name, owned_option));
     }
     std::string atomic = compiled_with(detail::embedded_kernel("raster_setup"), "CLVIS_RASTER_ATOMIC_TEST_UNDEFINED");
     CHECK(atomic.find("atom_min") != std::string::npos);
@@ -102,7 +104,7 @@ TEST_CASE("without 64-bit atomics the raster path owns tiles, with the same keys
     // A device of its own whose reported extensions lack the atomics.
     Device plain = Device::open();
     Device lacking = Device::open();
-    lacking.impl()->info.int64_atomics = false;
+    detail::DeviceAccess::of(lacking, "test").info.int64_atomics = false;
     Scene s = spot();
     Bounds b = s.bounds();
     const int w = 203, h = 117; // odd sizes: squares and spans cut by the image's edges
@@ -153,14 +155,14 @@ TEST_CASE("a device's loop cap is measured, and long bins are drawn in chunks wi
           "[device][raster][rusticl]")
 {
     Device d = Device::open();
-    std::uint32_t limit = d.impl()->loop_limit();
-    CHECK(limit == d.impl()->loop_limit());
+    std::uint32_t limit = detail::DeviceAccess::of(d, "test").loop_limit();
+    CHECK(limit == detail::DeviceAccess::of(d, "test").loop_limit());
     CHECK(limit > 1000u);
     INFO("loop limit " << limit);
     // A cap forced on a device of its own: 4000 passes give raster_fine.cl 28 bin entries per
     // launch, so the 6000-entry bins below take 215 launches, each merging with the last.
     Device capped = Device::open();
-    capped.impl()->measured_loop_limit = 4000;
+    detail::DeviceAccess::of(capped, "test").measured_loop_limit = 4000;
     MeshData m;
     for (int k = 0; k < 3000; ++k) {
         float z = -50.0f + 0.01f * float(k), x0 = -20.25f + 0.003f * float(k % 7);
@@ -178,7 +180,7 @@ TEST_CASE("a device's loop cap is measured, and long bins are drawn in chunks wi
     CHECK(raster_keys(capped, s, c, 64, 64, RasterAtomics::Off) == want);
     if (capped.info().int64_atomics) CHECK(raster_keys(capped, s, c, 64, 64, RasterAtomics::On) == want);
     // A cap the raster path cannot keep is refused by name, not drawn wrong.
-    capped.impl()->measured_loop_limit = 200;
+    detail::DeviceAccess::of(capped, "test").measured_loop_limit = 200;
     try {
         raster_keys(capped, s, c, 64, 64, RasterAtomics::Off);
         FAIL("rendered under a loop cap the raster path cannot keep");

@@ -94,7 +94,7 @@ TEST_CASE("the pixel mapping draws long bins in chunks within a loop cap", "[dev
     // A cap forced on a device of its own: 2000 passes give raster_fine_pixel 332 bin entries
     // per launch, so the 1500 triangles over every tile take 5 launches, each merging with the last.
     Device capped = Device::open();
-    capped.impl()->measured_loop_limit = 2000;
+    detail::DeviceAccess::of(capped, "test").measured_loop_limit = 2000;
     MeshData m;
     for (int k = 0; k < 1500; ++k) {
         float z = -50.0f + 0.02f * float(k), x0 = -20.25f + 0.003f * float(k % 7);

@@ -2,7 +2,7 @@
 // the raster path's on unseen random soups under random perspective, orthographic and intrinsics
 // cameras (near clipping, guard band, odd sizes, culling), on a grid whose samples lie on shared
 // edges, and the default watertight test shown to differ there (so the equality is not vacuous).
-// paths_agree_test.cpp checks the same equality on every agreement case.
+// The agreement suite (agree_harness.cpp) checks the same equality on every agreement case.
 #include "catch.hpp"
 #include "test_meshes.hpp"
 

@@ -4,7 +4,7 @@
 #include "options.hpp"
 
 #include <clvis/clvis.hpp>
-#include <clvis/ray_files.hpp>
+#include <clvis/ray_io.hpp>
 
 #include <nlohmann/json.hpp>
 

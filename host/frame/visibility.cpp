@@ -38,7 +38,7 @@ std::shared_ptr<_cl_mem> hold(cl_mem mem) { return std::shared_ptr<_cl_mem>(mem,
 VisibilityBuffer::VisibilityBuffer(const Device& device, int width, int height, int samples)
     : device_(device), width_(width), height_(height), samples_(samples)
 {
-    auto& impl = device.checked("VisibilityBuffer");
+    auto& impl = detail::DeviceAccess::of(device, "VisibilityBuffer");
     check_size(width, height, "VisibilityBuffer");
     samples_log2(samples);
     std::uint64_t bytes = std::uint64_t(width) * std::uint64_t(height) * std::uint64_t(samples) * 8;
@@ -73,7 +73,7 @@ VisibilityBuffer& VisibilityBuffer::operator=(VisibilityBuffer&& other) noexcept
 
 VisibilityBuffer VisibilityBuffer::wrap(const Device& device, cl_mem keys, int width, int height, int samples)
 {
-    cl_context context = device.checked("VisibilityBuffer::wrap").context();
+    cl_context context = detail::DeviceAccess::of(device, "VisibilityBuffer::wrap").context();
     check_size(width, height, "VisibilityBuffer::wrap");
     samples_log2(samples);
     if (!keys) throw Error(Error::Kind::InvalidArgument, "VisibilityBuffer::wrap: null buffer");
@@ -122,7 +122,7 @@ namespace {
 template <class Fn> void with_mapped_keys(const VisibilityBuffer& v, const char* call, Fn fn)
 {
     if (v.width() == 0) empty_buffer(call);
-    auto& impl = v.device().checked(call);
+    auto& impl = detail::DeviceAccess::of(v.device(), call);
     std::size_t bytes = v.key_count() * 8;
     try {
         std::lock_guard<std::mutex> lock(impl.mutex);

@@ -117,11 +117,8 @@ public:
             return true;
         }
         // A bin per 8 triangles at most, and at least 2: near the leaves the sweep would cost more
-        // than the binning. 1 per triangle cost 11% more instructions (a 64k sphere) for an SAH
-        // cost at most 0.5% lower (a 64k soup; the bunny's 0.1%) than 1 per 4 (at least 4); 1 per 8
-        // builds 5-8% faster than 1 per 4 for an SAH cost 0.2% (spheres), 0.3% (the bunny), 0.6%
-        // (soups) higher, and at least 2 instead of 4 (the ranges under 32 triangles) another
-        // 5-10% faster for 0.3-0.4% (spheres, grids), 0.8% (the bunny, soups) more.
+        // than the binning. Finer bins find splits of a barely lower SAH cost (under a percent)
+        // for a clearly slower build; the measurements are in the commit messages that set these.
         int bins = int(std::min<std::uint32_t>(std::uint32_t(opt_.sah_bins), std::max<std::uint32_t>(n / 8, 2)));
         BinMap map(r.cbox, bins);
         BinSplit best;
@@ -262,7 +259,7 @@ clvis_bvh_tri make_tri(const float* positions, const std::uint32_t* indices, std
 /// Sets tris[i] to triangle id_of(i) for every i, on `threads` threads: a gather through the
 /// indices, at random where the tree's order is not the mesh's (a soup). Each triangle's indices
 /// are fetched ahead of use, and its vertices a little less far ahead, so the misses of several
-/// triangles overlap (a random 1M-triangle order: 69 -> 25 ms on one thread).
+/// triangles overlap.
 template <class IdOf>
 void gather_tris(const float* positions, const std::uint32_t* indices, unsigned threads, IdOf id_of,
                  std::vector<clvis_bvh_tri>& tris)

@@ -20,8 +20,7 @@ CLVIS_SPLIT_CLONES void bin_prims(const Prim* prims, std::uint32_t b, std::uint3
 {
     // A block's bins are mapped first, then its boxes and counts added: the bins' addresses are
     // known ahead of the stores, where computing them one primitive at a time between them left
-    // each primitive's loads of the bins waiting on the last one's stores (a quarter slower on
-    // 64k random boxes). An axis without extent bins everything into bin 0 ((c - lo) is 0 there)
+    // each primitive's loads of the bins waiting on the last one's stores. An axis without extent bins everything into bin 0 ((c - lo) is 0 there)
     // and is never swept: no branch per axis.
     constexpr std::uint32_t block = 64;
     v4i k[block];

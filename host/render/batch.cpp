@@ -19,7 +19,7 @@ VisibilityBatch::VisibilityBatch(const Device& device, int views, int width, int
         throw Error(Error::Kind::InvalidArgument, "VisibilityBatch: views and size must be positive, got " +
                                                       std::to_string(views) + " views of " + std::to_string(width) +
                                                       "x" + std::to_string(height));
-    auto& impl = device.checked("VisibilityBatch");
+    auto& impl = DeviceAccess::of(device, "VisibilityBatch");
     // Sub-buffers must start on the device's base address alignment (in bits).
     std::size_t align_keys = std::max<std::size_t>(impl.device.getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 64, 1);
     stride_ = round_up(std::size_t(width) * std::size_t(height), align_keys);

@@ -176,7 +176,7 @@ void Renderer::Impl::prepare(Path path)
 
 Renderer::Renderer(Device device, const Scene& scene, RenderOptions options) : impl_(std::make_unique<Impl>())
 {
-    device.checked("Renderer");
+    DeviceAccess::of(device, "Renderer");
     check_options(options);
     error_boundary("making a Renderer", [&] {
         impl_->device = std::move(device);

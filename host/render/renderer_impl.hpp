@@ -32,7 +32,7 @@ struct Renderer::Impl {
     BvhStats no_bvh;
     detail::StageRecorder stages;
 
-    Device::Impl& dev() { return *device.impl(); }
+    Device::Impl& dev() { return detail::DeviceAccess::of(device, "Renderer"); }
 
     void upload_all();
     /// The expanded scene on the device, uploaded on first use: the ray path of a scene with

@@ -72,7 +72,7 @@ cl_mem AttributeBuffers::buffer(Attribute a) const
 void AttributeBuffers::read(Attribute a, float* out) const
 {
     cl_mem mem = buffer(a);
-    auto& impl = device_.checked("AttributeBuffers::read");
+    auto& impl = DeviceAccess::of(device_, "AttributeBuffers::read");
     try {
         std::lock_guard<std::mutex> lock(impl.mutex);
         impl.queue.enqueueReadBuffer(cl::Buffer(mem, true), CL_TRUE, 0, attribute_bytes(*this, a), out);

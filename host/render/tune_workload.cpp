@@ -46,7 +46,7 @@ TuneKey tune_device_key(const Device& device, std::initializer_list<const char*>
 {
     // The hash of the kernels' sources (about 100 KB, hashed a byte at a time) is taken once per
     // build options and names in a process: every Renderer that prepares a tuned path asks.
-    std::string options = device.impl()->build_options(""), which = options;
+    std::string options = DeviceAccess::of(device, "tune_device_key").build_options(""), which = options;
     for (const char* name : names) which += std::string("\n") + name;
     static std::mutex mutex;
     static std::map<std::string, std::string> hashes;

@@ -41,7 +41,7 @@ VisibleSet::VisibleSet(const Device& device, std::uint32_t triangle_count) : tri
     if (!device) throw Error(Error::Kind::InvalidArgument, "VisibleSet: empty Device");
     auto s = std::make_shared<State>();
     s->device = device;
-    auto& d = *device.impl();
+    auto& d = detail::DeviceAccess::of(device, "VisibleSet");
     s->words = (triangle_count + 31) / 32;
     std::size_t word_bytes = std::max<std::size_t>(s->words, 1) * 4;
     d.check_allocation(std::uint64_t(triangle_count) * 4 + 4, "a visible set's id list");

@@ -1,5 +1,6 @@
-// The OpenCL runtime behind clvis::Device: the context, device, default queue and program cache,
-// and the translation of OpenCL errors into clvis::Error with the call's and the code's names.
+// The OpenCL runtime behind clvis::Device: the context, device, default queue and program cache
+// (Device::Impl, reached through detail::DeviceAccess), and the translation of OpenCL errors into
+// clvis::Error with the call's and the code's names.
 #pragma once
 
 #include "runtime/cl.hpp"
@@ -82,5 +83,14 @@ struct Device::Impl {
     std::mutex mutex; ///< guards programs and the default queue's host reads
     std::map<std::string, cl::Program> programs;
 };
+
+namespace detail {
+/// The way in to a Device's implementation for the library and its tests (include/clvis/device.hpp
+/// keeps it private, as renderer.hpp keeps Renderer::Impl).
+struct DeviceAccess {
+    /// The implementation; throws Error(InvalidArgument) naming `call` when the Device is empty.
+    static Device::Impl& of(const Device& device, const char* call) { return device.checked(call); }
+};
+} // namespace detail
 
 } // namespace clvis

@@ -1,11 +1,10 @@
 // The on-disk cache of built programs (device.cpp's Device::Impl::program): a program's binary,
 // loaded instead of building from source. Drivers that cache compiled programs themselves (PoCL)
-// still run their compiler front end on every source build (about 30-70 ms per program on the
-// 2-core machine), while handing out a binary makes PoCL compile every kernel of the program at
-// once, doubling a cold build. So their binaries are kept only once a program has been built from
-// source before (a marker file says so): a first run costs what it did, the second pays for the
-// binary once (spot, both paths, PoCL's cache cold: 7.8 s, then 6.5 s, then 1.0 s), and later
-// runs load it.
+// still run their compiler front end on every source build, while handing out a binary makes
+// PoCL compile every kernel of the program at once, which makes a cold build slower. So their
+// binaries are kept only once a program has been built from source before (a marker file says
+// so): a first run costs what it did, the second pays for the binary once, and later runs load
+// it.
 #pragma once
 
 #include "runtime/cl.hpp"

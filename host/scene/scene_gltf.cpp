@@ -3,18 +3,18 @@
 // triangle primitive into ids exactly as CONVENTIONS.md's "Instances" section says. Called by
 // load_mesh / load_scene / load_gltf (host/scene/scene_io.cpp) and by the fuzz target fuzz_gltf.
 //
-// Why tinygltf (libtinygltf-dev 2.7) and not assimp (libassimp-dev 5.2.5), measured on the 46
-// .gltf/.glb files of Debian's assimp-testmodels (/usr/share/assimp/models/glTF2):
+// Why tinygltf and not assimp, compared on the .gltf/.glb files of Debian's assimp-testmodels
+// (/usr/share/assimp/models/glTF2):
 //  - ids: tinygltf hands over the file's own nodes, accessors and primitive modes, so the walk,
 //    strips, fans, sparse accessors and index order below are ours and follow the spec to the
 //    letter; assimp converts them into aiMeshes of its own faces (strips and fans triangulated by
-//    its code, not checked against the spec's order here) and drops what it judges bad
-//    (IndexOutOfRange: 11 faces of 12 kept; AllIndicesOutOfRange refused as "no faces").
-//  - loads: assimp refused 12 files, 6 of them (wrongTypes/bad{Extension,Number,Object,String,
-//    Uint}, issue_3269) for material, texture or name fields that play no part in visibility;
-//    tinygltf parsed 43 and refused MissingBin, sceneWrongType (its buffer is missing too) and the
-//    Draco file. With the checks below 26 load and 20 fail with a message naming what is wrong.
-//  - speed: the same order (0.1 to 17 ms a file for both; 2CylinderEngine.glb 17 ms vs 27 ms).
+//    its code, not checked against the spec's order here) and drops what it judges bad (a face
+//    of IndexOutOfRange dropped; AllIndicesOutOfRange refused as "no faces").
+//  - loads: assimp refused files (wrongTypes/bad{Extension,Number,Object,String,Uint},
+//    issue_3269) for material, texture or name fields that play no part in visibility; tinygltf
+//    refused only files whose buffers are missing (MissingBin, sceneWrongType) and the Draco file,
+//    and of what it parses the checks below refuse the malformed with a message naming the fault.
+//  - speed: of the same order for both.
 //  - surface: one header, no post-processing, and its file access goes through callbacks we own
 //    (no path expansion, images never decoded), which the fuzz target compiles instrumented.
 #include "scene/instance_transform.hpp"

@@ -1,25 +1,20 @@
 // Files into scenes: load_mesh reads a whole file and picks a parser (host/scene/scene_obj.cpp,
-// scene_ply.cpp, scene_stl.cpp, scene_gltf.cpp) by extension, else by content; load_scene_file
-// reads the JSON scene file (meshes, transforms, camera, image size); load_scene puts paths into
-// one Scene (a glTF file's items each as a mesh with its transform).
+// scene_ply.cpp, scene_stl.cpp, scene_gltf.cpp) by extension, else by content; load_scene puts
+// paths into one Scene (a glTF file's items each as a mesh with its transform, a JSON scene file
+// through load_scene_file, host/scene/scene_file.cpp).
 #include "lower_case.hpp"
 #include "scene/scene_parsers.hpp"
 
 #include <clvis/scene_io.hpp>
-#include <clvis/views_file.hpp>
 
-#include <algorithm>
 #include <cctype>
 #include <cerrno>
-#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <memory>
-
-#ifdef CLVIS_HAVE_JSON
-#include <nlohmann/json.hpp>
-#endif
+#include <string>
+#include <vector>
 
 namespace clvis {
 
@@ -114,261 +109,12 @@ MeshData parse_mesh(std::string_view bytes, const std::string& path)
     fail(path, "unknown mesh format: not .obj, .ply, .stl, .gltf or .glb, and the content is none of them");
 }
 
-#ifdef CLVIS_HAVE_JSON
-
-namespace {
-
-using Json = nlohmann::json;
-
-/// Scene files are shallow; a deeper document is refused before it can exhaust the stack.
-constexpr int CLVIS_SCENE_MAX_DEPTH = 32;
-/// Largest image side a scene file may ask for, in pixels.
-constexpr std::int64_t CLVIS_SCENE_MAX_SIDE = 65536;
-
-class SceneReader {
-public:
-    SceneReader(const std::string& path, const std::function<MeshData(const std::string&)>& load)
-        : path_(path), load_(load)
-    {
-    }
-
-    SceneFile read(std::string_view text)
-    {
-        Json root = parse(text);
-        if (!root.is_object()) fail(path_, "expected a JSON object at the top level");
-        for (auto it = root.begin(); it != root.end(); ++it)
-            if (it.key() != "meshes" && it.key() != "camera" && it.key() != "width" && it.key() != "height")
-                bad(it.key(), "unknown field");
-        SceneFile out;
-        meshes(root, out.scene);
-        if (root.contains("camera")) out.camera_spec = camera(root["camera"]);
-        out.width = side(root, "width");
-        out.height = side(root, "height");
-        if (!out.camera_spec.empty()) out.camera = resolve(out);
-        return out;
-    }
-
-    ViewsFile read_views(std::string_view text)
-    {
-        Json root = parse(text);
-        if (!root.is_object()) fail(path_, "expected a JSON object at the top level");
-        for (auto it = root.begin(); it != root.end(); ++it)
-            if (it.key() != "views" && it.key() != "width" && it.key() != "height") bad(it.key(), "unknown field");
-        ViewsFile out;
-        out.width = side(root, "width");
-        out.height = side(root, "height");
-        if (out.width == 0) bad("width", "missing");
-        if (out.height == 0) bad("height", "missing");
-        if (!root.contains("views") || !root["views"].is_array() || root["views"].empty())
-            bad("views", "expected a non-empty array of cameras");
-        const Json& views = root["views"];
-        for (std::size_t i = 0; i < views.size(); ++i) {
-            std::string where = "views[" + std::to_string(i) + "]";
-            CameraSpec spec;
-            try {
-                spec = camera(views[i]);
-            } catch (const Error& e) {
-                // camera() names its fields "camera.*": here they are "views[i].*".
-                std::string msg = e.what(), prefix = path_ + ": camera";
-                if (msg.rfind(prefix, 0) != 0) throw;
-                fail(path_, where + msg.substr(prefix.size()));
-            }
-            // A views file has no scene to frame: each view places its camera itself.
-            if (spec.framing()) bad(where, "eye and target, or pose, are needed");
-            try {
-                out.views.push_back(spec.resolve(Bounds{}, out.width, out.height,
-                                                 [&](const std::string& field) { return where + "." + field; }));
-            } catch (const Error& e) {
-                fail(path_, e.what());
-            }
-        }
-        return out;
-    }
-
-private:
-    [[noreturn]] void bad(const std::string& where, const std::string& what) const { fail(path_, where + ": " + what); }
-
-    Json parse(std::string_view text) const
-    {
-        Json::parser_callback_t limit = [this](int depth, Json::parse_event_t, Json&) {
-            if (depth > CLVIS_SCENE_MAX_DEPTH)
-                fail(path_, "JSON nested deeper than " + std::to_string(CLVIS_SCENE_MAX_DEPTH) + " levels");
-            return true;
-        };
-        try {
-            return Json::parse(text.begin(), text.end(), limit);
-        } catch (const Json::exception& e) {
-            fail(path_, std::string("invalid JSON: ") + e.what());
-        }
-    }
-
-    double number(const Json& j, const std::string& where) const
-    {
-        if (!j.is_number()) bad(where, "expected a number");
-        double v = j.get<double>();
-        if (!std::isfinite(v)) bad(where, "expected a finite number");
-        return v;
-    }
-
-    std::vector<double> numbers(const Json& j, std::size_t count, const std::string& where) const
-    {
-        if (!j.is_array() || j.size() != count) bad(where, "expected " + std::to_string(count) + " numbers");
-        std::vector<double> v;
-        for (std::size_t i = 0; i < count; ++i) v.push_back(number(j[i], where + "[" + std::to_string(i) + "]"));
-        return v;
-    }
-
-    Vec3 vec3(const Json& j, const std::string& where) const
-    {
-        std::vector<double> v = numbers(j, 3, where);
-        return {v[0], v[1], v[2]};
-    }
-
-    void meshes(const Json& root, Scene& scene) const
-    {
-        if (!root.contains("meshes")) bad("meshes", "missing (a scene file names at least one mesh)");
-        const Json& list = root["meshes"];
-        if (!list.is_array() || list.empty()) bad("meshes", "expected a non-empty array of {\"file\": ...}");
-        std::filesystem::path folder = std::filesystem::path(path_).parent_path();
-        for (std::size_t i = 0; i < list.size(); ++i) {
-            std::string at = "meshes[" + std::to_string(i) + "]";
-            const Json& m = list[i];
-            if (!m.is_object()) bad(at, "expected an object {\"file\": ..., \"transform\": [16 numbers]}");
-            for (auto it = m.begin(); it != m.end(); ++it)
-                if (it.key() != "file" && it.key() != "transform" && it.key() != "instances")
-                    bad(at + "." + it.key(), "unknown field");
-            if (m.contains("transform") && m.contains("instances"))
-                bad(at, "give either transform or instances, not both");
-            if (!m.contains("file") || !m["file"].is_string() || m["file"].get_ref<const std::string&>().empty())
-                bad(at + ".file", "expected a file name");
-            Mat4 transform;
-            if (m.contains("transform")) transform = matrix(m["transform"], at + ".transform");
-            std::filesystem::path file = m["file"].get<std::string>();
-            if (file.is_relative()) file = folder / file;
-            MeshData mesh;
-            try {
-                mesh = load_(file.string());
-            } catch (const Error& e) {
-                throw Error(e.kind(), path_ + ": " + at + ".file: " + e.what());
-            }
-            if (!m.contains("instances")) {
-                scene.add_mesh(std::move(mesh), transform);
-                continue;
-            }
-            const Json& list = m["instances"];
-            if (!list.is_array() || list.empty()) bad(at + ".instances", "expected a non-empty array of 16-number matrices");
-            std::vector<Mat4> transforms;
-            for (std::size_t k = 0; k < list.size(); ++k)
-                transforms.push_back(matrix(list[k], at + ".instances[" + std::to_string(k) + "]"));
-            std::size_t prototype = scene.add_prototype(std::move(mesh));
-            for (const Mat4& t : transforms) scene.add_instance(prototype, t);
-        }
-    }
-
-    Mat4 matrix(const Json& j, const std::string& where) const
-    {
-        std::vector<double> v = numbers(j, 16, where);
-        Mat4 t;
-        std::copy(v.begin(), v.end(), t.m.begin());
-        if (t(3, 0) != 0 || t(3, 1) != 0 || t(3, 2) != 0 || t(3, 3) != 1)
-            bad(where, "the last row must be 0 0 0 1 (an affine transform, row by row)");
-        return t;
-    }
-
-    /// The "camera" object, field by field through the one table of camera fields.
-    CameraSpec camera(const Json& j) const
-    {
-        if (!j.is_object()) bad("camera", "expected an object");
-        CameraSpec spec;
-        for (auto it = j.begin(); it != j.end(); ++it) {
-            std::string where = "camera." + it.key();
-            const Json& v = it.value();
-            CameraValue value;
-            if (v.is_number()) {
-                value.numbers.push_back(number(v, where));
-            } else if (v.is_array()) {
-                for (std::size_t i = 0; i < v.size(); ++i)
-                    value.numbers.push_back(number(v[i], where + "[" + std::to_string(i) + "]"));
-            } else if (v.is_string()) {
-                value.word = v.get<std::string>();
-            } else if (v.is_boolean() && v.get<bool>()) {
-                value.bare = true;
-            } else {
-                bad(where, "expected a number, an array of numbers or a word");
-            }
-            try {
-                set_camera_field(spec, it.key(), value, where);
-            } catch (const Error& e) {
-                fail(path_, e.what());
-            }
-        }
-        return spec;
-    }
-
-    Camera resolve(const SceneFile& f) const
-    {
-        try {
-            return f.camera_spec.resolve(f.scene.bounds(), f.width ? f.width : default_width,
-                                         f.height ? f.height : default_height,
-                                         [](const std::string& field) { return "camera." + field; });
-        } catch (const Error& e) {
-            fail(path_, e.what());
-        }
-    }
-
-    int side(const Json& root, const char* key) const
-    {
-        if (!root.contains(key)) return 0;
-        const Json& j = root[key];
-        if (!j.is_number_integer() || j.get<std::int64_t>() < 1 || j.get<std::int64_t>() > CLVIS_SCENE_MAX_SIDE)
-            bad(key, "expected an integer from 1 to " + std::to_string(CLVIS_SCENE_MAX_SIDE));
-        return int(j.get<std::int64_t>());
-    }
-
-    const std::string& path_;
-    const std::function<MeshData(const std::string&)>& load_;
-};
-
-} // namespace
-
-SceneFile parse_scene_file(std::string_view text, const std::string& path,
-                           const std::function<MeshData(const std::string&)>& load)
-{
-    return SceneReader(path, load).read(text);
-}
-
-ViewsFile parse_views_file(std::string_view text, const std::string& path)
-{
-    static const std::function<MeshData(const std::string&)> no_meshes;
-    return SceneReader(path, no_meshes).read_views(text);
-}
-
-#else
-
-ViewsFile parse_views_file(std::string_view, const std::string& path)
-{
-    fail(path, "cannot read views files: this build of clvis was made without nlohmann::json");
-}
-
-SceneFile parse_scene_file(std::string_view, const std::string& path, const std::function<MeshData(const std::string&)>&)
-{
-    fail(path, "cannot read scene files: this build of clvis was made without nlohmann::json");
-}
-
-#endif
-
 } // namespace detail
 
 MeshData load_mesh(const std::string& path)
 {
     std::string bytes = detail::read_file(path);
     return detail::parse_mesh(bytes, path);
-}
-
-SceneFile load_scene_file(const std::string& path)
-{
-    std::string text = detail::read_file(path);
-    return detail::parse_scene_file(text, path, load_mesh);
 }
 
 void add_gltf(Scene& scene, GltfScene gltf)
@@ -385,23 +131,6 @@ void add_gltf(Scene& scene, GltfScene gltf)
             prototype[item.mesh] = scene.add_prototype(std::move(gltf.meshes[item.mesh]));
         scene.add_instance(prototype[item.mesh], item.transform);
     }
-}
-
-ViewsFile load_views_file(const std::string& path)
-{
-    std::string text = detail::read_file(path);
-    return detail::parse_views_file(text, path);
-}
-
-std::string view_file_name(const std::string& pattern, int view, int last)
-{
-    const std::string key = "{view}";
-    auto at = pattern.find(key);
-    if (at == std::string::npos) return pattern;
-    std::string digits = std::to_string(view);
-    std::size_t width = std::to_string(std::max(last, 0)).size();
-    if (digits.size() < width) digits.insert(0, width - digits.size(), '0');
-    return pattern.substr(0, at) + digits + view_file_name(pattern.substr(at + key.size()), view, last);
 }
 
 Scene load_scene(const std::vector<std::string>& paths)

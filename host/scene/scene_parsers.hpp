@@ -1,5 +1,5 @@
 // The mesh and scene parsers behind load_mesh and load_scene_file, from memory: the file
-// loaders (host/scene/scene_io.cpp) read a whole file and call these; the fuzz targets
+// loaders (host/scene/scene_io.cpp, scene_file.cpp) read a whole file and call these; the fuzz targets
 // (tests/fuzz/) call them directly. `name` is the file name that every error message starts with.
 #pragma once
 

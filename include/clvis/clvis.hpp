@@ -13,7 +13,7 @@
 #include <clvis/image.hpp>
 #include <clvis/math.hpp>
 #include <clvis/procedural.hpp>
-#include <clvis/ray_files.hpp>
+#include <clvis/ray_io.hpp>
 #include <clvis/ray_query.hpp>
 #include <clvis/rays.hpp>
 #include <clvis/referee.hpp>

@@ -62,6 +62,10 @@ struct TunedChoice {
 /// none when there is no cache folder.
 std::vector<TunedChoice> tuned_choices(const DeviceInfo& device);
 
+namespace detail {
+struct DeviceAccess;
+}
+
 class Device {
 public:
     /// An empty handle, as is a moved-from Device: every accessor, and every object made from
@@ -88,12 +92,11 @@ public:
     cl_command_queue queue() const;
 
     struct Impl;
-    const std::shared_ptr<Impl>& impl() const { return impl_; }
-    /// The implementation; throws Error(InvalidArgument) naming `call` when the Device is empty.
-    Impl& checked(const char* call) const;
 
 private:
+    friend struct detail::DeviceAccess;
     explicit Device(std::shared_ptr<Impl> impl) : impl_(std::move(impl)) {}
+    Impl& checked(const char* call) const;
     std::shared_ptr<Impl> impl_;
 };
 

@@ -1,4 +1,4 @@
-// libFuzzer target: parse_scene_file (host/scene/scene_io.cpp) on arbitrary text. Mesh files are not
+// libFuzzer target: parse_scene_file (host/scene/scene_file.cpp) on arbitrary text. Mesh files are not
 // read: a mesh named "bad..." fails as a file would, any other is one triangle, so the fuzzer
 // explores the JSON fields. It must return a scene or throw clvis::Error. Seeds: corpus/scene/.
 #include "fuzz_check.hpp"

@@ -3,7 +3,7 @@
 #include "catch.hpp"
 
 #include <clvis/error.hpp>
-#include <clvis/ray_files.hpp>
+#include <clvis/ray_io.hpp>
 
 #include <cstdio>
 #include <cstring>
@@ -15,7 +15,7 @@ using namespace clvis;
 
 namespace {
 
-std::string temp_path(const std::string& name) { return std::string(CLVIS_BINARY_DIR) + "/ray_files_test_" + name; }
+std::string temp_path(const std::string& name) { return std::string(CLVIS_BINARY_DIR) + "/ray_io_test_" + name; }
 
 void write_bytes(const std::string& path, const std::string& bytes)
 {

@@ -2,7 +2,7 @@
 // (NumPy's format: magic, version, a little-endian header length, a Python dict literal with
 // 'descr', 'fortran_order' and 'shape', then the data in C order) and raw little-endian records.
 #include <clvis/error.hpp>
-#include <clvis/ray_files.hpp>
+#include <clvis/ray_io.hpp>
 
 #include <cctype>
 #include <cstring>
