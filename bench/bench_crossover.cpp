@@ -45,31 +45,36 @@ std::string crossover_words(const std::string& mesh, int width, int height, cons
     std::string at = mesh + " " + std::to_string(width) + "x" + std::to_string(height) + ": ";
     if (!c.valid()) return at + "no answer (a path has no frame time)";
     std::string times = " (" + num("%.2f", c.raster_ms) + " vs " + num("%.2f", c.ray_ms) + " ms)";
-    std::string build = "its BVH build (" + num("%.1f", c.build_ms) + " ms) costs " +
-                        num("%.1f", c.build_in_raster_frames()) + " raster frames";
+    std::string build_ms = num("%.1f", c.build_ms) + " ms", frames = num("%.1f", c.build_in_raster_frames());
+    std::string noise = c.lo > 0 && c.lo <= 1 && c.hi >= 1
+                            ? " The spread of raster/ray (" + num("%.2f", c.lo) + "-" + num("%.2f", c.hi) +
+                                  ") holds 1: per frame the two are not told apart here."
+                            : "";
     long long n = c.ray_pays_from();
     if (n == 0) {
         std::string faster = c.ray_ms > c.raster_ms ? num("%.2f", c.ray_ms / c.raster_ms) + "x faster" : "as fast";
         return at + "rasterization is " + faster + " per frame" + times +
-               ": rasterize; ray casting never catches up, and " + build + " more.";
+               ": rasterize; ray casting never catches up (its BVH build, " + build_ms + ", costs another " + frames +
+               " raster frames)." + noise;
     }
     std::string faster = num("%.2f", c.raster_ms / c.ray_ms) + "x faster";
+    std::string build = "its BVH build (" + build_ms + ") costs " + frames + " raster frames";
     if (n == 1)
         return at + "ray casting is " + faster + " per frame" + times + " and " + build +
-               ", paid back by the first frame: ray-cast.";
-    return at + "ray casting is " + faster + " per frame" + times + ", but " + build +
-           ": it pays from frame " + std::to_string(n) + " on; rasterize fewer than " + std::to_string(n) +
-           " frames of this scene, ray-cast more.";
+               ", paid back by the first frame: ray-cast." + noise;
+    return at + "ray casting is " + faster + " per frame" + times + ", but " + build + ": it pays from frame " +
+           std::to_string(n) + " on; rasterize fewer than " + std::to_string(n) + " frames of this scene, ray-cast more." +
+           noise;
 }
 
 const std::vector<Column>& ratio_table_columns()
 {
     static const std::vector<Column> columns{
         {"mesh", "the scene"},
-        {"camera", "the view (framing, close, ...)"},
+        {"camera", "the view (framing, closeup)"},
         {"tris", "triangles"},
         {"size", "image width x height"},
-        {"cover", "pixels with a triangle"},
+        {"cover", "share of the pixels with a triangle"},
         {"raster/ray", "clvis raster frame / clvis ray frame (medians) and spread: below 1 rasterization is "
                        "faster per frame"},
         {"ray pays", "frames from which ray casting, its BVH build included, costs less than rasterization "

@@ -13,6 +13,7 @@ namespace clvis::bench {
 /// The medians of one point (ms); 0 where a path has no figure.
 struct Crossover {
     double raster_ms = 0, ray_ms = 0, build_ms = 0;
+    double lo = 0, hi = 0; ///< the spread of raster / ray (0 0: unknown)
 
     bool valid() const { return raster_ms > 0 && ray_ms > 0; }
     /// Raster frame time over ray frame time: below 1 rasterization is faster per frame.
@@ -29,8 +30,8 @@ std::string pays_cell(const Crossover& c);
 /// "never", "always" or "after" (bench.json's crossover.ray_pays); "" without both paths.
 const char* pays_word(const Crossover& c);
 /// The answer in words, e.g. "bunny 1920x1080: rasterization is 1.60x faster per frame (2.00 vs
-/// 3.20 ms): rasterize; ray casting never catches up, and its BVH build (9.0 ms) costs 4.5 raster
-/// frames more."
+/// 3.20 ms): rasterize; ray casting never catches up (its BVH build, 9.0 ms, costs another 4.5
+/// raster frames)."; a spread of raster / ray that holds 1 is said to leave the two untold apart.
 std::string crossover_words(const std::string& mesh, int width, int height, const Crossover& c);
 
 /// A column of the bench table and what it holds.

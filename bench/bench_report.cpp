@@ -178,9 +178,18 @@ RatioFigure ratio_figure(const PooledPoint& p, const RatioDef& d)
     return f;
 }
 
-Crossover crossover_of(const Point& p)
+Crossover crossover_of(const PooledPoint& pp)
 {
+    const Point& p = pp.pooled;
     Crossover c;
+    for (const RatioDef& d : ratio_defs())
+        if (std::string(d.key) == "raster_over_ray") {
+            RatioFigure f = ratio_figure(pp, d);
+            if (f.valid()) {
+                c.lo = f.lo;
+                c.hi = f.hi;
+            }
+        }
     if (const Run* r = p.find("raster")) c.raster_ms = summarize(r->frame_ms).median;
     if (const Run* r = p.find("ray")) {
         c.ray_ms = summarize(r->frame_ms).median;
@@ -221,7 +230,7 @@ nlohmann::json point_json(const PooledPoint& pp)
         }
         j["ratio_spread"][d.key] = sj;
     }
-    Crossover c = crossover_of(p);
+    Crossover c = crossover_of(pp);
     if (c.valid()) {
         long long n = c.ray_pays_from();
         j["crossover"] = {{"raster_over_ray", c.raster_over_ray()},

@@ -50,8 +50,8 @@ struct RatioFigure {
 RatioFigure ratio_figure(const PooledPoint& p, const RatioDef& d);
 
 /// The medians of clvis's raster frames, ray frames and ray-path BVH builds at a point (0 where
-/// a path failed): rasterization or ray casting there.
-Crossover crossover_of(const Point& p);
+/// a path failed) and the spread of raster / ray: rasterization or ray casting there.
+Crossover crossover_of(const PooledPoint& p);
 
 /// printf of one number.
 std::string fmt(const char* format, double v);

@@ -80,7 +80,7 @@ void print_ratios(const std::vector<PooledPoint>& points)
         std::printf("%-18s %-7s %8zu %9s %5s | %-16s %-10s | %8s %8s %-16s | %8s %8s %-16s %8s %-16s | %8s %8s %-16s "
                     "| %8s | %-10s %-10s %-10s %-10s %-10s\n",
                     p.mesh.c_str(), p.camera.c_str(), p.triangles, size.c_str(), cover.c_str(),
-                    ratio_cell(pp, "raster_over_ray").c_str(), pays_cell(crossover_of(p)).c_str(),
+                    ratio_cell(pp, "raster_over_ray").c_str(), pays_cell(crossover_of(pp)).c_str(),
                     ms_cell(p, "raster").c_str(), ms_cell(p, "llvmpipe").c_str(),
                     ratio_cell(pp, "raster_over_llvmpipe").c_str(), ms_cell(p, "ray").c_str(),
                     ms_cell(p, "embree-intersect16").c_str(), ratio_cell(pp, "ray_over_embree_intersect16").c_str(),
@@ -101,7 +101,7 @@ void print_crossovers(const std::vector<PooledPoint>& points)
                 "scene):\n");
     for (const auto& pp : points) {
         const Point& p = pp.pooled;
-        std::printf("  %s\n", crossover_words(p.mesh + " " + p.camera, p.width, p.height, crossover_of(p)).c_str());
+        std::printf("  %s\n", crossover_words(p.mesh + " " + p.camera, p.width, p.height, crossover_of(pp)).c_str());
     }
 }
 
