@@ -178,6 +178,26 @@ RatioFigure ratio_figure(const PooledPoint& p, const RatioDef& d)
     return f;
 }
 
+Crossover crossover_of(const PooledPoint& pp)
+{
+    const Point& p = pp.pooled;
+    Crossover c;
+    for (const RatioDef& d : ratio_defs())
+        if (std::string(d.key) == "raster_over_ray") {
+            RatioFigure f = ratio_figure(pp, d);
+            if (f.valid()) {
+                c.lo = f.lo;
+                c.hi = f.hi;
+            }
+        }
+    if (const Run* r = p.find("raster")) c.raster_ms = summarize(r->frame_ms).median;
+    if (const Run* r = p.find("ray")) {
+        c.ray_ms = summarize(r->frame_ms).median;
+        if (!r->build_ms.empty()) c.build_ms = summarize(r->build_ms).median;
+    }
+    return c;
+}
+
 nlohmann::json point_json(const PooledPoint& pp)
 {
     const Point& p = pp.pooled;
@@ -209,6 +229,15 @@ nlohmann::json point_json(const PooledPoint& pp)
             sj["verdict"] = to_string(judge(f.lo, f.hi, d.target));
         }
         j["ratio_spread"][d.key] = sj;
+    }
+    Crossover c = crossover_of(pp);
+    if (c.valid()) {
+        long long n = c.ray_pays_from();
+        j["crossover"] = {{"raster_over_ray", c.raster_over_ray()},
+                          {"build_in_raster_frames", c.build_in_raster_frames()},
+                          {"ray_pays", pays_word(c)},
+                          {"ray_pays_from_frame", n > 0 ? nlohmann::json(n) : nlohmann::json(nullptr)},
+                          {"text", crossover_words(p.mesh + " " + p.camera, p.width, p.height, c)}};
     }
     j["passes"] = nlohmann::json::array();
     for (const Point* pass : pp.passes) j["passes"].push_back(pass_json(*pass));

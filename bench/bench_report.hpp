@@ -4,6 +4,7 @@
 // bench/plot.py.
 #pragma once
 
+#include "bench_crossover.hpp"
 #include "bench_run.hpp"
 
 #include <nlohmann/json.hpp>
@@ -47,6 +48,10 @@ struct RatioFigure {
     bool valid() const { return pooled.valid(); }
 };
 RatioFigure ratio_figure(const PooledPoint& p, const RatioDef& d);
+
+/// The medians of clvis's raster frames, ray frames and ray-path BVH builds at a point (0 where
+/// a path failed) and the spread of raster / ray: rasterization or ray casting there.
+Crossover crossover_of(const PooledPoint& p);
 
 /// printf of one number.
 std::string fmt(const char* format, double v);

@@ -1,6 +1,7 @@
 // The table of a benchmark run on standard output (see bench_report.hpp): median frame times,
 // ratios with their spread and verdicts against the targets, then every renderer's min / median
-// / max, the machine's load, and the failures once each.
+// / max, the machine's load, the failures once each, and last the answer per point: rasterization
+// or ray casting (bench_crossover.hpp).
 #include "bench_report.hpp"
 
 #include <algorithm>
@@ -66,9 +67,9 @@ void print_ratios(const std::vector<PooledPoint>& points)
                 "(raster/llvmpipe <= %.2f, ray/rtcIntersect16 <= %.2f, BVH build/Embree build <= %.2f).\n"
                 "Referee columns: pixels with an unacceptable answer (e) / explained mismatches (x).\n",
                 target_raster_over_llvmpipe, target_ray_over_embree16, target_build_over_embree);
-    std::printf("%-18s %-7s %8s %9s %5s | %8s %8s %-16s | %8s %8s %-16s %8s %-16s | %8s %8s %-16s | %8s | %-10s "
-                "%-10s %-10s %-10s %-10s\n",
-                "mesh", "camera", "tris", "size", "cover", "raster", "llvmpipe", "r/gl", "ray", "e-16", "ray/e16",
+    std::printf("%-18s %-7s %8s %9s %5s | %-16s %-10s | %8s %8s %-16s | %8s %8s %-16s %8s %-16s | %8s %8s %-16s | %8s "
+                "| %-10s %-10s %-10s %-10s %-10s\n",
+                "mesh", "camera", "tris", "size", "cover", "raster/ray", "ray pays", "raster", "llvmpipe", "r/gl", "ray", "e-16", "ray/e16",
                 "e-1", "ray/e1", "bvh", "e-build", "b/e", "brute", "raster|ray", "raster|gl", "ray|e1", "ray|e16",
                 "brute|ray");
     for (const auto& pp : points) {
@@ -76,9 +77,10 @@ void print_ratios(const std::vector<PooledPoint>& points)
         std::string size = std::to_string(p.width) + "x" + std::to_string(p.height);
         std::string cover = p.coverage >= 0 ? fmt("%.0f%%", 100 * p.coverage) : "-";
         std::string brute = p.find("brute") ? ms_cell(p, "brute") : "-";
-        std::printf("%-18s %-7s %8zu %9s %5s | %8s %8s %-16s | %8s %8s %-16s %8s %-16s | %8s %8s %-16s | %8s | %-10s "
-                    "%-10s %-10s %-10s %-10s\n",
+        std::printf("%-18s %-7s %8zu %9s %5s | %-16s %-10s | %8s %8s %-16s | %8s %8s %-16s %8s %-16s | %8s %8s %-16s "
+                    "| %8s | %-10s %-10s %-10s %-10s %-10s\n",
                     p.mesh.c_str(), p.camera.c_str(), p.triangles, size.c_str(), cover.c_str(),
+                    ratio_cell(pp, "raster_over_ray").c_str(), pays_cell(crossover_of(pp)).c_str(),
                     ms_cell(p, "raster").c_str(), ms_cell(p, "llvmpipe").c_str(),
                     ratio_cell(pp, "raster_over_llvmpipe").c_str(), ms_cell(p, "ray").c_str(),
                     ms_cell(p, "embree-intersect16").c_str(), ratio_cell(pp, "ray_over_embree_intersect16").c_str(),
@@ -88,6 +90,18 @@ void print_ratios(const std::vector<PooledPoint>& points)
                     verdict_cell(p, "raster", "ray").c_str(), verdict_cell(p, "raster", "llvmpipe").c_str(),
                     verdict_cell(p, "ray", "embree-intersect1").c_str(),
                     verdict_cell(p, "ray", "embree-intersect16").c_str(), verdict_cell(p, "brute", "ray").c_str());
+    }
+    std::printf("Columns:\n%s", legend(ratio_table_columns()).c_str());
+}
+
+/// The user's question answered per point: rasterization or ray casting, and from how many frames.
+void print_crossovers(const std::vector<PooledPoint>& points)
+{
+    std::printf("\nRasterization or ray casting (clvis's medians; ray casting pays for its BVH build once per "
+                "scene):\n");
+    for (const auto& pp : points) {
+        const Point& p = pp.pooled;
+        std::printf("  %s\n", crossover_words(p.mesh + " " + p.camera, p.width, p.height, crossover_of(pp)).c_str());
     }
 }
 
@@ -140,6 +154,7 @@ void print_table(const std::vector<PooledPoint>& points)
     print_ratios(points);
     print_spreads(points);
     print_failures(points);
+    print_crossovers(points);
     std::fflush(stdout);
 }
 

@@ -358,6 +358,79 @@ TEST_CASE("malformed glTF files throw Error(Io) naming the file and what is wron
           std::string::npos);
 }
 
+TEST_CASE("glTF 1.0, required extensions clvis lacks and broken GLBs are refused for their cause", "[io][gltf]")
+{
+    // glTF 1.0: named by asset.version, by 1.0's objects in place of arrays when there is no
+    // asset, and by a GLB of version 1 (KHR_binary_glTF).
+    std::string v1 = "\"scenes\":{\"s\":{\"nodes\":[\"n\"]}},\"scene\":\"s\",\"nodes\":{\"n\":{\"meshes\":[\"m\"]}},"
+                     "\"meshes\":{\"m\":{\"primitives\":[]}}";
+    CHECK(load_error(write_file("v1.gltf", "{\"asset\":{\"version\":\"1.0\"}," + v1 + "}"))
+              .find("asset.version \"1.0\": glTF 1.0, clvis reads glTF 2.0 only") != std::string::npos);
+    CHECK(load_error(write_file("v1_no_asset.gltf", "{" + v1 + "}"))
+              .find("no asset, and \"scenes\" is an object, not an array: glTF 1.0") != std::string::npos);
+    Gltf g;
+    int a = g.positions(triangle_at(0));
+    std::string rest = "\"meshes\":[" + mesh({a}) + "],\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}]";
+    std::string glb = g.glb(rest), v1_glb = glb;
+    v1_glb[4] = 1;
+    CHECK(load_error(write_file("v1.glb", v1_glb)).find("GLB version 1 (KHR_binary_glTF)") != std::string::npos);
+    for (const char* dir : {"BoxTextured-glTF-Binary", "TwoBoxes", "IncorrectVertexArrays"})
+        for (const auto& e : fs::directory_iterator(fs::path("/usr/share/assimp/models/glTF") / dir)) {
+            std::string ext = e.path().extension().string();
+            if (ext != ".gltf" && ext != ".glb") continue;
+            INFO(e.path().string());
+            CHECK(load_error(e.path().string()).find("glTF 1.0, clvis reads glTF 2.0 only") != std::string::npos);
+        }
+    // A required extension is named even where tinygltf would first trip over what it changes:
+    // Draco's accessors have no bufferView, meshopt's buffer no uri.
+    std::string draco = "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_draco_mesh_compression\"],"
+                        "\"extensionsRequired\":[\"KHR_draco_mesh_compression\"],\"buffers\":[{\"byteLength\":4,"
+                        "\"uri\":\"data:application/octet-stream;base64,AAAAAA==\"}],\"bufferViews\":[{\"buffer\":0,"
+                        "\"byteLength\":4}],\"accessors\":[{\"componentType\":5123,\"count\":3,\"type\":\"SCALAR\"},"
+                        "{\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"meshes\":[{\"primitives\":[{"
+                        "\"attributes\":{\"POSITION\":1},\"indices\":0,\"extensions\":{\"KHR_draco_mesh_compression\":"
+                        "{\"bufferView\":0,\"attributes\":{\"POSITION\":0}}}}]}],\"nodes\":[{\"mesh\":0}],"
+                        "\"scenes\":[{\"nodes\":[0]}]}";
+    CHECK(load_error(write_file("draco_indices.gltf", draco))
+              .find("extensionsRequired: KHR_draco_mesh_compression is not supported") != std::string::npos);
+    std::string meshopt = "{\"asset\":{\"version\":\"2.0\"},\"extensionsRequired\":[\"EXT_meshopt_compression\"],"
+                          "\"buffers\":[{\"byteLength\":36,\"extensions\":{\"EXT_meshopt_compression\":{\"fallback\":true}}}]," +
+                          rest + "}";
+    CHECK(load_error(write_file("meshopt.gltf", meshopt)).find("extensionsRequired: EXT_meshopt_compression is not supported") !=
+          std::string::npos);
+    const std::string engine = "/usr/share/assimp/models/glTF2/draco/2CylinderEngine.gltf";
+    CHECK(load_error(engine).find("KHR_draco_mesh_compression is not supported") != std::string::npos);
+    // A GLB names what is wrong with its container (tinygltf says "Invalid glTF binary." to all).
+    std::string longer = glb, not_json = glb;
+    std::uint32_t claimed = std::uint32_t(glb.size() + 100);
+    std::memcpy(&longer[8], &claimed, 4);
+    not_json[16] = 'X';
+    CHECK(load_error(write_file("short.glb", glb.substr(0, 16))).find("16 bytes, shorter than its 20-byte headers") !=
+          std::string::npos);
+    CHECK(load_error(write_file("truncated.glb", glb.substr(0, 40))).find("the file holds 40 (truncated?)") !=
+          std::string::npos);
+    CHECK(load_error(write_file("longer.glb", longer)).find("the header says " + std::to_string(claimed) + " bytes") !=
+          std::string::npos);
+    CHECK(load_error(write_file("not_json.glb", not_json)).find("the first chunk is not JSON") != std::string::npos);
+}
+
+TEST_CASE("glTF camera nodes of the scene are listed in one note", "[io][gltf]")
+{
+    Gltf g;
+    int a = g.positions(triangle_at(0));
+    std::string rest = "\"meshes\":[" + mesh({a}) + "],\"cameras\":[{\"name\":\"Main\",\"type\":\"perspective\","
+                       "\"perspective\":{\"yfov\":0.8,\"znear\":0.1}},{\"type\":\"orthographic\",\"orthographic\":"
+                       "{\"xmag\":1,\"ymag\":1,\"znear\":0.1,\"zfar\":9}}],\"nodes\":[{\"mesh\":0,\"children\":[2]},"
+                       "{\"camera\":1},{\"camera\":0}],\"scenes\":[{\"nodes\":[0]}]";
+    GltfScene s = load_gltf(write_file("cameras.gltf", g.embedded(rest)));
+    REQUIRE(s.notes.size() == 1); // nodes[1] is outside the scene
+    CHECK(s.notes[0] == "cameras ignored (clvis places its own camera): nodes[2] (cameras[0] \"Main\", perspective)");
+    s = load_gltf(write_file("cameras2.gltf", g.embedded(rest.replace(rest.find("[0]}]"), 5, "[0,1]}]"))));
+    REQUIRE(s.notes.size() == 1);
+    CHECK(s.notes[0].find("nodes[2] (cameras[0] \"Main\", perspective), nodes[1] (cameras[1], orthographic)") !=
+          std::string::npos);
+}
+
 TEST_CASE("every glTF2 file of assimp-testmodels loads or throws clvis::Error", "[io][gltf]")
 {
     // The set-up installs assimp-testmodels: a missing folder is a broken install, not a skip.

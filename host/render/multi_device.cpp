@@ -152,6 +152,7 @@ void MultiDeviceRenderer::render(const Camera& camera, int width, int height, Pa
         Renderer& renderer = renderers_[d];
         DeviceShare& share = out.devices[d];
         share.device = renderer.device().info().name;
+        share.index = renderer.device().info().index;
         try {
             TileBuffers buffers(renderer.device());
             std::vector<std::uint64_t> keys;

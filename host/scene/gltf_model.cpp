@@ -14,6 +14,8 @@
 #include <filesystem>
 #include <limits>
 
+#include <nlohmann/json.hpp>
+
 namespace clvis::detail {
 
 namespace {
@@ -100,16 +102,80 @@ std::string one_line(const std::string& text)
     return out;
 }
 
-void check_extensions(const tinygltf::Model& model, const std::string& name)
+/// Required extensions that change neither positions nor indices nor the node tree are safe to
+/// ignore for visibility; every other one is refused by name (the spec says a loader must).
+void check_extensions(const std::vector<std::string>& required, const std::string& name)
 {
-    // Required extensions that change neither positions nor indices nor the node tree are safe
-    // to ignore for visibility; every other one is refused (the spec says a loader must).
     static const char* harmless[] = {"KHR_materials_", "KHR_texture_", "EXT_texture_", "KHR_lights_punctual",
                                      "KHR_xmp", "MSFT_texture_dds"};
-    for (const std::string& ext : model.extensionsRequired)
+    for (const std::string& ext : required)
         if (std::none_of(std::begin(harmless), std::end(harmless),
                          [&](const char* h) { return ext.rfind(h, 0) == 0; }))
             fail(name, "extensionsRequired: " + ext + " is not supported (it may change the geometry)");
+}
+
+/// `why` ("asset.version \"1.0\"") shows a glTF 1.0 file.
+[[noreturn]] void refuse_version_1(const std::string& why, const std::string& name)
+{
+    fail(name, why + ": glTF 1.0, clvis reads glTF 2.0 only (convert the file, e.g. with gltf-pipeline or Blender)");
+}
+
+/// An asset.version other than 2.x.
+void check_version(const std::string& version, const std::string& name)
+{
+    if (version.rfind("2.", 0) == 0) return;
+    std::string why = "asset.version \"" + version + "\"";
+    if (version.rfind("1.", 0) == 0) refuse_version_1(why, name);
+    fail(name, why + ": clvis reads glTF 2.0 only");
+}
+
+/// The GLB container's header and JSON chunk, each fault named (tinygltf says "Invalid glTF
+/// binary." for all of them): version 1 is glTF 1.0's binary extension (KHR_binary_glTF).
+void check_glb(std::string_view bytes, const std::string& name)
+{
+    auto u32 = [&](std::size_t at) {
+        std::uint32_t v;
+        std::memcpy(&v, bytes.data() + at, 4);
+        return v;
+    };
+    const std::string size = std::to_string(bytes.size());
+    if (bytes.size() < 20) fail(name, "invalid GLB: " + size + " bytes, shorter than its 20-byte headers");
+    std::uint32_t version = u32(4), length = u32(8), json = u32(12), type = u32(16);
+    if (version == 1) refuse_version_1("GLB version 1 (KHR_binary_glTF)", name);
+    if (version != 2) fail(name, "GLB version " + std::to_string(version) + ": clvis reads GLB version 2 (glTF 2.0)");
+    if (length > bytes.size())
+        fail(name, "invalid GLB: the header says " + std::to_string(length) + " bytes, the file holds " + size +
+                       " (truncated?)");
+    if (type != 0x4E4F534A) fail(name, "invalid GLB: the first chunk is not JSON (its type is not \"JSON\")");
+    if (json < 1 || 20ull + json > length)
+        fail(name, "invalid GLB: the JSON chunk of " + std::to_string(json) + " bytes does not fit in the " +
+                       std::to_string(length) + " bytes the header gives");
+}
+
+/// Why tinygltf refused the JSON, where its own message would name a symptom: a glTF 1.0 file
+/// (asset.version "1.x", or no asset and 1.0's objects in place of arrays) or a required extension
+/// clvis lacks (Draco's accessors have no bufferView). Returns when neither applies.
+void explain_refusal(std::string_view json, const std::string& name)
+{
+    nlohmann::json doc = nlohmann::json::parse(json.begin(), json.end(), nullptr, false);
+    if (!doc.is_object()) return;
+    auto asset = doc.find("asset");
+    if (asset != doc.end() && asset->is_object()) {
+        auto version = asset->find("version");
+        if (version != asset->end() && version->is_string()) check_version(version->get<std::string>(), name);
+    } else {
+        for (const char* key : {"scenes", "meshes", "nodes", "accessors"}) {
+            auto it = doc.find(key);
+            if (it != doc.end() && it->is_object())
+                refuse_version_1(std::string("no asset, and \"") + key + "\" is an object, not an array", name);
+        }
+    }
+    auto required = doc.find("extensionsRequired");
+    if (required == doc.end() || !required->is_array()) return;
+    std::vector<std::string> names;
+    for (const auto& e : *required)
+        if (e.is_string()) names.push_back(e.get<std::string>());
+    check_extensions(names, name);
 }
 
 double finite(double v, const std::string& where, const std::string& name)
@@ -132,7 +198,9 @@ tinygltf::Model load_gltf_model(std::string_view bytes, const std::string& name,
 {
     if (bytes.size() > std::numeric_limits<unsigned int>::max()) fail(name, "larger than 4 GiB");
     bool glb = is_glb(bytes);
-    check_depth(glb ? glb_json(bytes) : bytes, name);
+    if (glb) check_glb(bytes, name);
+    std::string_view json = glb ? glb_json(bytes) : bytes;
+    check_depth(json, name);
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(skip_image, nullptr);
     loader.SetFsCallbacks({file_exists, expand_path, read_whole_file, refuse_write, &read_files});
@@ -147,8 +215,13 @@ tinygltf::Model load_gltf_model(std::string_view bytes, const std::string& name,
     } catch (const std::exception& e) {
         fail(name, std::string("invalid glTF: ") + e.what());
     }
-    if (!ok) fail(name, "invalid " + std::string(glb ? "GLB" : "glTF") + ": " + one_line(err.empty() ? warn : err));
-    check_extensions(model, name);
+    if (!ok) {
+        explain_refusal(json, name);
+        std::string why = one_line(err.empty() ? warn : err);
+        fail(name, "invalid " + std::string(glb ? "GLB" : "glTF") + ": " + (why.empty() ? "tinygltf gave no reason" : why));
+    }
+    check_version(model.asset.version, name);
+    check_extensions(model.extensionsRequired, name);
     return model;
 }
 

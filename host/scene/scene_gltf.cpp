@@ -132,6 +132,7 @@ public:
                 if (!std::isfinite(v)) fail(name_, at + ": the transform along the path overflows");
             if (n.skin >= 0) note(at + ": skin ignored, the mesh is drawn in its bind pose");
             if (n.mesh >= 0) items(std::size_t(node), n.mesh, world);
+            if (n.camera >= 0) camera(at, n.camera);
             for (auto it = n.children.rbegin(); it != n.children.rend(); ++it) stack.emplace_back(*it, world);
         }
         if (out_.items.empty()) {
@@ -139,11 +140,26 @@ public:
             for (const std::string& s : out_.notes) why += (why.empty() ? " (" : "; ") + s;
             fail(name_, "contains no triangles" + (why.empty() ? std::string() : why + ")"));
         }
+        if (!cameras_.empty()) note("cameras ignored (clvis places its own camera): " + cameras_);
         return std::move(out_);
     }
 
 private:
     void note(const std::string& s) { out_.notes.push_back(s); }
+
+    /// "nodes[3] (cameras[0] \"Main\", perspective)", listed in one note at the end of the walk.
+    void camera(const std::string& at, int camera)
+    {
+        std::string what = "cameras[" + std::to_string(camera) + "]";
+        if (std::size_t(camera) < model_.cameras.size()) {
+            const tinygltf::Camera& c = model_.cameras[std::size_t(camera)];
+            if (!c.name.empty()) what += " \"" + c.name + "\"";
+            if (!c.type.empty()) what += ", " + c.type;
+        } else {
+            what += " (does not exist)";
+        }
+        cameras_ += (cameras_.empty() ? "" : ", ") + at + " (" + what + ")";
+    }
 
     void items(std::size_t node, int mesh, const Mat4& world)
     {
@@ -214,6 +230,7 @@ private:
     GltfScene out_;
     std::map<std::pair<int, std::size_t>, std::optional<std::size_t>> prototypes_;
     std::uint64_t triangles_ = 0;
+    std::string cameras_; ///< the camera nodes met in the walk
 };
 
 } // namespace

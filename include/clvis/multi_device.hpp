@@ -25,7 +25,8 @@ struct MultiDeviceOptions {
 
 /// What one device did for a frame.
 struct DeviceShare {
-    std::string device;   ///< its name (DeviceInfo::name)
+    std::string device;   ///< its name (DeviceInfo::name): two devices of one kind share it
+    std::size_t index = 0; ///< its DeviceInfo::index (position in list_devices()), which tells them apart
     int tiles = 0;        ///< tiles it drew
     double busy_ms = 0;   ///< host wall time in its tiles' renders and read-backs
 };

@@ -46,14 +46,18 @@ struct GltfScene {
     /// v_0), indexed or not, sparse accessors applied.
     std::vector<MeshData> meshes;
     std::vector<Item> items;        ///< in id order
-    std::vector<std::string> notes; ///< what was skipped and why (points and lines, no POSITION)
+    /// What was skipped and why (points and lines, no POSITION, skins, morph targets), and one
+    /// note listing the camera nodes of the scene ("cameras ignored ...: nodes[3] (cameras[0]
+    /// \"Main\", perspective)"), which clvis does not use.
+    std::vector<std::string> notes;
 
     std::uint64_t triangle_count() const;
 };
 
 /// Reads a .gltf (buffers in files beside it or embedded as base64 data URIs) or a .glb. Throws
 /// Error(Io) naming the file and what is wrong (with the glTF path, "meshes[2].primitives[0]"):
-/// JSON or GLB structure, an accessor outside its buffer, an index past the vertices, a
+/// a glTF 1.0 file (asset.version, 1.0's layout, a GLB of version 1), JSON or GLB structure (the
+/// GLB header's fault named), an accessor outside its buffer, an index past the vertices, a
 /// non-finite position or transform, a node reached twice (nodes form disjoint trees), a required
 /// extension that changes geometry (Draco, quantization, meshopt, GPU instancing), no triangle.
 /// Images are never decoded. A build without tinygltf throws Error(Io) saying so.

@@ -66,18 +66,20 @@ const char* multi_doc =
     "    devices = [clvis.Device(d.index) for d in clvis.devices()]\n"
     "    multi = clvis.MultiDeviceRenderer(devices, scene)\n"
     "    vis = multi.render(camera, 1920, 1080)\n"
-    "    print([(s.device, s.tiles) for s in multi.shares])";
+    "    print([(s.index, s.device, s.tiles) for s in multi.shares])";
 
 } // namespace
 
 void bind_multi_device(nb::module_& m)
 {
     nb::class_<DeviceShare>(m, "DeviceShare", "What one device did for a MultiDeviceRenderer's last frame.")
-        .def_ro("device", &DeviceShare::device, "Its name.")
+        .def_ro("device", &DeviceShare::device, "Its name (two devices of one kind share it: see index).")
+        .def_ro("index", &DeviceShare::index, "Its DeviceInfo.index (position in clvis.devices()): a spec for clvis.Device.")
         .def_ro("tiles", &DeviceShare::tiles, "Tiles it drew.")
         .def_ro("busy_ms", &DeviceShare::busy_ms, "Host wall time in its tiles' renders and read-backs.")
         .def("__repr__", [](const DeviceShare& s) {
-            return "<clvis.DeviceShare " + s.device + ": " + std::to_string(s.tiles) + " tiles>";
+            return "<clvis.DeviceShare device " + std::to_string(s.index) + " (" + s.device +
+                   "): " + std::to_string(s.tiles) + " tiles>";
         });
     nb::class_<PyMultiRenderer> c(m, "MultiDeviceRenderer", multi_doc);
     c.def(

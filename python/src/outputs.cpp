@@ -39,9 +39,10 @@ nb::dict resolve_attributes(PyRenderer& r, const PyVisibility& vis, const std::v
     });
     nb::dict out;
     const auto h = std::size_t(buffer.height()), w = std::size_t(buffer.width());
-    for (const Attribute a : wanted) {
+    for (std::size_t k = 0; k < names.size(); ++k) { // keyed by the names asked for ('smooth_normal')
+        const Attribute a = wanted[k];
         auto& v = values[std::size_t(a)];
-        if (!v.empty()) out[to_string(a)] = owned_array(std::move(v), {h, w, std::size_t(channels(a))});
+        if (!v.empty()) out[names[k].c_str()] = owned_array(std::move(v), {h, w, std::size_t(channels(a))});
     }
     return out;
 }

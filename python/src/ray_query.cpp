@@ -11,6 +11,7 @@
 #include <nanobind/stl/string.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 
 namespace clvis::python {
@@ -26,6 +27,14 @@ struct PyRayQuery {
 
 nb::object numpy() { return nb::module_::import_("numpy"); }
 
+/// A figure for a repr: 4 significant digits ("8.612", "0.0003", "1.2e+04").
+std::string number(double v)
+{
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", v);
+    return buf;
+}
+
 /// clvis.ray_dtype or clvis.hit_dtype (python/clvis/__init__.py defines them, so that their stubs
 /// are plain Python), looked up once and kept to the module's end.
 PyObject* package_dtype(const char* name)
@@ -37,11 +46,26 @@ PyObject* package_dtype(const char* name)
     return kept;
 }
 
-/// Whether `obj` is a NumPy array of the structured dtype `dtype`.
+/// Whether `obj` is a NumPy array of the structured dtype `dtype`. Only a NumPy array's dtype is
+/// compared: another object's (an Open3D tensor's, a library's own dtype class) may refuse == with
+/// a NumPy dtype or answer NotImplemented.
 bool has_dtype(nb::handle obj, PyObject* dtype)
 {
-    if (!nb::hasattr(obj, "dtype")) return false;
-    return nb::cast<bool>(obj.attr("dtype").attr("__eq__")(nb::handle(dtype)));
+    if (!PyObject_IsInstance(obj.ptr(), numpy().attr("ndarray").ptr())) return false;
+    return PyObject_RichCompareBool(obj.attr("dtype").ptr(), dtype, Py_EQ) == 1;
+}
+
+/// `obj` as NumPy sees it (np.asarray: a NumPy array is returned as it is, no copy), or
+/// Error(InvalidArgument) naming `what` when NumPy cannot convert it.
+nb::object as_array(nb::handle obj, const std::string& what)
+{
+    try {
+        return numpy().attr("asarray")(obj);
+    } catch (const nb::python_error& e) {
+        throw Error(Error::Kind::InvalidArgument, what + ": not an array NumPy can convert (" +
+                                                      nb::cast<std::string>(nb::str(nb::handle(Py_TYPE(obj.ptr())))) +
+                                                      "): " + e.what());
+    }
 }
 
 /// The rays of one call: `held` keeps the array the device reads.
@@ -50,8 +74,9 @@ RayInput rays_of(nb::handle rays, const std::string& layout, const std::string& 
     const bool soa = parse_choice<bool>(layout, (what + ": layout").c_str(), {{"aos", false}, {"soa", true}});
     const std::string name = what + ": rays";
     if (!soa) {
-        nb::object records = nb::borrow(rays);
-        if (has_dtype(rays, package_dtype("ray_dtype"))) records = rays.attr("view")("float32").attr("reshape")(-1, 8);
+        nb::object records = as_array(rays, name);
+        if (has_dtype(records, package_dtype("ray_dtype")))
+            records = records.attr("view")("float32").attr("reshape")(-1, 8);
         held = as_host_array<float>(records, {name.c_str(), "(N, 8)", 2, 8, false}, "float32");
         return RayInput(reinterpret_cast<const RayRecord*>(held.data()), held.shape(0));
     }
@@ -164,8 +189,20 @@ void bind_stats(nb::module_& m)
         .def_ro("device_ms", &RayQueryStats::device_ms, "Kernel time summed over batches.")
         .def_ro("wall_ms", &RayQueryStats::wall_ms, "Host wall time of the call, transfers included.")
         .def("__repr__", [](const RayQueryStats& s) {
-            return "<clvis.RayQueryStats " + std::to_string(s.rays) + " rays, " + std::to_string(s.invalid) + " invalid>";
+            return "<clvis.RayQueryStats rays=" + std::to_string(s.rays) + " invalid=" + std::to_string(s.invalid) +
+                   " batches=" + std::to_string(s.batches) + " device_ms=" + number(s.device_ms) +
+                   " wall_ms=" + number(s.wall_ms) + ">";
         });
+    // BvhStats is bound with the Renderer (render.cpp); its repr, listing every field, is added here.
+    nb::handle bvh = nb::type<BvhStats>();
+    nb::setattr(bvh, "__repr__", nb::cpp_function([](const BvhStats& s) {
+        auto count = [](std::uint64_t n) { return std::to_string(n); };
+        return "<clvis.BvhStats build_ms=" + number(s.build_ms) + " upload_ms=" + number(s.upload_ms) +
+               " nodes=" + count(s.nodes) + " leaves=" + count(s.leaves) + " depth=" + std::to_string(s.depth) +
+               " sah_cost=" + number(s.sah_cost) + " refitted=" + (s.refitted ? "True" : "False") +
+               " instances=" + count(s.instances) + " top_build_ms=" + number(s.top_build_ms) +
+               " prototype_builds=" + count(s.prototype_builds) + " device_bytes=" + count(s.device_bytes) + ">";
+    }, nb::is_method(), nb::name("__repr__"), nb::scope(bvh)));
 }
 
 const char* rays_doc =
