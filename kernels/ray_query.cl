@@ -4,12 +4,13 @@
    ray_query_brute tests every triangle in id order instead, the reference the BVH walk must
    equal. Rays and results live in buffers of either layout (shared/ray_query.h). Launched by
    host/ray/ray_query.cpp, built once per query kind (CLVIS_QUERY), stack size (CLVIS_RAY_STACK) and
-   lanes, on PoCL's CPU device with CLVIS_PREFETCH. With CLVIS_INSTANCES (a scene with instances) the walk
-   starts in the top level of the two-level BVH and enters instances as ray_trace.cl does
-   (shared/instance.h: world boxes widened conservatively, world vertices computed on the fly with
-   the expansion's bits), so every answer equals the expansion's; without it the walk is the flat
-   tree's. The walk's order never changes an answer (ties go to the lower id whatever the order).
-   No packet assumption: incoherent rays (ambient occlusion, shadows, random) walk on their own. */
+   lanes, on PoCL's CPU device with CLVIS_PREFETCH. The walk is the ray kernels' one
+   (shared/bvh_walk.h). With CLVIS_INSTANCES (a scene with instances) it starts in the top level
+   of the two-level BVH and enters instances (shared/instance.h: world boxes widened
+   conservatively, world vertices computed on the fly with the expansion's bits), so every answer
+   equals the expansion's; without it the walk is the flat tree's. The walk's order never changes
+   an answer (ties go to the lower id whatever the order). No packet assumption: incoherent rays
+   (ambient occlusion, shadows, random) walk on their own. */
 #include "shared/bvh.h"
 #include "shared/instance.h"
 #include "shared/ray.h"
@@ -20,10 +21,7 @@
 #error "CLVIS_QUERY must be defined (shared/ray_query.h)"
 #endif
 /* CLVIS_RAY_STACK: entries, at least 3 x the 4-wide tree's depth + 1 (each visited node leaves
-   at most three children besides the one taken). */
-#ifndef CLVIS_RAY_STACK
-#error "CLVIS_RAY_STACK must be defined"
-#endif
+   at most three children besides the one taken; shared/bvh_walk.h checks it is defined). */
 
 #if CLVIS_QUERY == CLVIS_QUERY_ANY
 typedef uchar out_t;
@@ -198,160 +196,58 @@ static int4 hits_boxes(__global const clvis_bvh4_node* n, __global const clvis_i
     return (t0 <= t1) & (t0 <= (float4)(far_t * CLVIS_IZE_SCALE));
 }
 
-/* One ray's walk, advanced a node at a time (walk_step) so that a work-item can interleave the
-   walks of CLVIS_QUERY_LANES rays: while one lane waits for the node it popped, the others' loads
-   are in flight. Of the children that the ray meets, the nearest is visited next; the others are
-   pushed far to near (by entry distance) as (child, count) with their entry distance, and popped
-   while they may still hold a hit before the nearest so far (closest) or in [tmin, tmax]. With
-   CLVIS_INSTANCES each entry also remembers its instance (or the top level, or the plain meshes'
-   flat tree), a top-level leaf enters its instances (the first at once, the others pushed as
-   CLVIS_ENTER_INSTANCE entries at the leaf's entry distance), and boxes and triangles of an
-   instance are tested in world space. */
+/* One ray and its answer so far: the walk's context (CLVIS_WALK_CTX). */
 typedef struct walker {
     clvis_ray_rec r;
     clvis_ray_shear s;
     clvis_box_ray br;
     answer a;
     uint ray;   /* its index in the batch */
-    uint node;  /* the node it visits next; CLVIS_BACKGROUND_ID once answered */
-    uint sp;    /* stack entries */
-#ifdef CLVIS_INSTANCES
-    uint inst;  /* the level it walks: an instance, CLVIS_INST_TOP or CLVIS_INST_FLAT */
-#endif
 } walker;
 
-/* The stacks of one lane. */
-typedef struct walk_stack {
-    uint ref[CLVIS_RAY_STACK];   /* a child: a node's index or a leaf's first triangle slot */
-    uint count[CLVIS_RAY_STACK]; /* 0: a node; > 0: the leaf's triangles */
-    float enter[CLVIS_RAY_STACK];
-#ifdef CLVIS_INSTANCES
-    uint inst[CLVIS_RAY_STACK];
-#endif
-} walk_stack;
-
-/* Visits w->node, then pops entries (testing leaves) until the next node to visit; w->node is
-   CLVIS_BACKGROUND_ID once the ray is answered. */
-static void walk_step(__global const clvis_bvh4_node* nodes, __global const clvis_bvh_tri* tris,
-                      __global const clvis_instance* instances, walker* w, walk_stack* st)
+/* The node test: the children the ray meets within its interval. Closest hits order them by entry
+   distance (and drop a popped one that starts past the nearest hit so far); any hit and counts
+   keep slot order (keys 0): their interval never shrinks, and any hit ends the walk at once. */
+static inline CLVIS_ALWAYS_INLINE int query_children(walker* w, __global const clvis_bvh4_node* nd,
+                                                     __global const clvis_instance* xi, float keys[4])
 {
-    __global const clvis_bvh4_node* n = nodes + w->node;
-    /* instance w->inst's record, none in the top level and the flat tree */
-#ifdef CLVIS_INSTANCES
-    __global const clvis_instance* xi = w->inst < CLVIS_INST_TOP ? instances + w->inst : 0;
-#else
-    __global const clvis_instance* xi = 0;
-#endif
     float4 e4;
-    int4 hit4 = hits_boxes(n, xi, w->br, w->r.tmin, query_far(w->r, &w->a), &e4);
-    float e[4];
-    int h[4];
-    vstore4(e4, 0, e);
-    vstore4(hit4, 0, h);
-    uint first = w->sp, sp = w->sp;
-    /* The nearest child the ray meets (closest; the first otherwise) is visited next without a
-       trip through the stack; the others are pushed far to near (closest) as (child, count). */
-    int next = -1;
-    float next_e = 0.0f;
-    /* Unrolled, so that the four children's hits and entries stay in registers instead of going
-       through e[] and h[] in memory. (A loop over the set bits of a hit mask instead, with clz,
-       crashes Oclgrind 21.10's uninitialised-value checker, and was no faster on PoCL; ranks from
-       comparisons in registers that put every met child on the stack without a branch per child
-       measured 10-20 % slower.) */
-#pragma unroll
-    for (uint k = 0; k < 4; ++k) {
-        if (!h[k]) continue;
-        clvis_prefetch_child(nodes, tris, n, (int)k);
-        if (next < 0) {
-            next = (int)k;
-            next_e = e[k];
-            continue;
-        }
-        uint push = k;
-        float push_e = e[k];
+    int4 hit = hits_boxes(nd, xi, w->br, w->r.tmin, query_far(w->r, &w->a), &e4);
 #if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
-        if (push_e < next_e) {
-            push = (uint)next;
-            push_e = next_e;
-            next = (int)k;
-            next_e = e[k];
-        }
+    vstore4(e4, 0, keys);
+#else
+    vstore4((float4)(0.0f), 0, keys);
 #endif
-        uint i = sp++;
-#if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
-        for (; i > first && st->enter[i - 1] < push_e; --i) {
-            st->ref[i] = st->ref[i - 1];
-            st->count[i] = st->count[i - 1];
-            st->enter[i] = st->enter[i - 1];
-        }
-#endif
-        st->ref[i] = n->child[push];
-        st->count[i] = n->count[push];
-        st->enter[i] = push_e;
-    }
-#ifdef CLVIS_INSTANCES
-    for (uint j = first; j < sp; ++j) st->inst[j] = w->inst; /* all of this node */
-#endif
-    w->node = CLVIS_BACKGROUND_ID;
-    /* the entry at hand: child `ref` (a node when cnt is 0, else a leaf of cnt), met at `at` */
-    uint ref = 0, cnt = 0;
-    float at = next_e;
-    if (next >= 0) {
-        ref = n->child[next];
-        cnt = n->count[next];
-    }
-    for (;;) {
-        if (next < 0) {
-            if (sp == 0) break;
-            --sp;
-            at = st->enter[sp];
-            if (at > query_far(w->r, &w->a) * CLVIS_IZE_SCALE) continue;
-            ref = st->ref[sp];
-            cnt = st->count[sp];
-#ifdef CLVIS_INSTANCES
-            w->inst = st->inst[sp];
-            xi = w->inst < CLVIS_INST_TOP ? instances + w->inst : 0;
-            if (ref == CLVIS_ENTER_INSTANCE) {
-                w->node = clvis_enter_instance(instances, w->inst, &w->inst, &xi);
-                break;
-            }
-#endif
-        }
-        next = -1;
-        if (cnt == 0) {
-            w->node = ref;
-            break;
-        }
-#ifdef CLVIS_INSTANCES
-        if (w->inst == CLVIS_INST_TOP) {
-            uint pushed = sp;
-            w->node = clvis_enter_instances(ref, cnt, instances, st->ref, st->inst, &sp, &w->inst, &xi);
-            for (; pushed < sp; ++pushed) {
-                st->enter[pushed] = at; /* the leaf's entry distance */
-                st->count[pushed] = 0u;
-            }
-            break;
-        }
-#endif
-        if (leaf(tris, ref, cnt, xi, w->s, w->r, &w->a)) break; /* answered: node stays none */
-    }
-    w->sp = sp;
+    return (hit.s0 & 1) | (hit.s1 & 2) | (hit.s2 & 4) | (hit.s3 & 8);
 }
+
+#define CLVIS_WALK_CTX walker
+#define CLVIS_WALK_CHILDREN(w, v, nd, xi, keys) query_children(w, nd, xi, keys)
+#if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
+#define CLVIS_WALK_KEY_SKIP(w, v, key) ((key) > query_far((w)->r, &(w)->a) * CLVIS_IZE_SCALE)
+#else
+#define CLVIS_WALK_KEY_SKIP(w, v, key) 0
+#endif
+#define CLVIS_WALK_BOX_SKIP(w, v, nd, k, xi) 0
+#define CLVIS_WALK_LEAF(w, v, tris, first, count, xi) leaf(tris, first, count, xi, (w)->s, (w)->r, &(w)->a)
+#include "shared/bvh_walk.h"
+
+#ifdef CLVIS_INSTANCES
+#define QUERY_TWO_LEVEL 1
+#else
+#define QUERY_TWO_LEVEL 0
+#endif
 
 /* Starts ray i's walk in a lane (at once answered when invalid or the tree is empty). */
 static void walk_start(__global const float* rays, int layout, ulong stride, ulong offset, uint i, uint node_count,
-                       __global uint* invalid, walker* w)
+                       __global uint* invalid, walker* w, clvis_walk* walk)
 {
     w->r = load_ray(rays, layout, stride, offset + i);
     w->a = start_answer(w->r);
     w->ray = i;
-    w->sp = 0;
-#ifdef CLVIS_INSTANCES
-    w->inst = CLVIS_INST_TOP;
-#endif
     int valid = clvis_ray_valid(w->r);
     if (!valid) atomic_inc(invalid);
-    w->node = valid && node_count > 0 ? 0u : CLVIS_BACKGROUND_ID;
+    clvis_walk_start(walk, valid ? node_count : 0u, QUERY_TWO_LEVEL);
     clvis_vec3 o = {w->r.ox, w->r.oy, w->r.oz}, d = {w->r.dx, w->r.dy, w->r.dz};
     w->s = clvis_make_shear(o, d);
     w->br = clvis_make_box_ray(o, d);
@@ -380,25 +276,29 @@ __kernel void ray_query(__global const clvis_bvh4_node* nodes, uint node_count, 
     ulong begin = (ulong)get_global_id(0) * per_item;
     if (begin >= count) return;
     uint next = (uint)begin, end = (ulong)count - begin < per_item ? count : (uint)begin + per_item;
+    /* CLVIS_QUERY_LANES walks interleaved a step (a node) at a time: while one lane waits for the
+       node it popped, the others' loads are in flight */
     walker w[CLVIS_QUERY_LANES];
-    walk_stack st[CLVIS_QUERY_LANES];
+    clvis_walk walk[CLVIS_QUERY_LANES];
+    clvis_walk_stack st[CLVIS_QUERY_LANES];
     uint busy = 0; /* lanes holding a ray */
     for (int j = 0; j < CLVIS_QUERY_LANES; ++j) {
-        w[j].node = CLVIS_BACKGROUND_ID;
+        walk[j].node = CLVIS_WALK_DONE;
         w[j].ray = end; /* none */
         if (next < end) {
-            walk_start(rays, ray_layout, ray_stride, ray_offset, next++, node_count, invalid, &w[j]);
+            walk_start(rays, ray_layout, ray_stride, ray_offset, next++, node_count, invalid, &w[j], &walk[j]);
             ++busy;
         }
     }
     while (busy > 0) {
         for (int j = 0; j < CLVIS_QUERY_LANES; ++j) {
             if (w[j].ray == end) continue;
-            if (w[j].node != CLVIS_BACKGROUND_ID) walk_step(nodes, tris, instances, &w[j], &st[j]);
-            if (w[j].node != CLVIS_BACKGROUND_ID) continue;
+            if (walk[j].node != CLVIS_WALK_DONE)
+                clvis_walk_step(&w[j], 0, QUERY_TWO_LEVEL, nodes, tris, instances, &walk[j], &st[j]);
+            if (walk[j].node != CLVIS_WALK_DONE) continue;
             store_answer(out, out_layout, out_stride, out_offset + w[j].ray, w[j].a);
             if (next < end) {
-                walk_start(rays, ray_layout, ray_stride, ray_offset, next++, node_count, invalid, &w[j]);
+                walk_start(rays, ray_layout, ray_stride, ray_offset, next++, node_count, invalid, &w[j], &walk[j]);
             } else {
                 w[j].ray = end;
                 --busy;

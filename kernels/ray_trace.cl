@@ -1,11 +1,11 @@
 /* Casts one primary ray per pixel centre through the BVH (shared/bvh.h) and writes the visibility
    key of every pixel; launched by host/ray/ray_pipeline.cpp. Each work-item traces a packet of 4x4
    pixels as the 16 lanes of OpenCL vectors (Wald et al., "Interactive rendering with coherent ray
-   tracing", 2001): one walk of the 4-wide tree per packet, nearest child first, with a short
-   stack; every box and triangle test runs on all 16 rays at once, the same operations as the
+   tracing", 2001): one walk of the 4-wide tree per packet (shared/bvh_walk.h), nearest child
+   first; every box and triangle test runs on all 16 rays at once, the same operations as the
    scalar tests of shared/ray.h, so each ray gets the bits that ray_brute.cl computes for it. A
    child is skipped when no ray of the packet can meet it before its nearest hit so far. A
-   perspective packet walks a flat tree by an interval test of the whole packet first (walk_span).
+   perspective packet walks a flat tree by an interval test of the whole packet first (WALK_SPAN).
    Work-groups are screen tiles of packets. Built with CLVIS_RASTER_RULE (RenderOptions::coverage),
    each candidate triangle is judged by the raster path's predicate instead (packet_rule_leaf). */
 #include "shared/ray_packet.h"
@@ -15,14 +15,6 @@
 #include "shared/raster_rule.h"
 #else
 #include "shared/ray_packet_tri.h"
-#endif
-
-#define CLVIS_RAY_NONE 0xFFFFFFFFu
-
-/* CLVIS_RAY_STACK (entries, at least 3 x the 4-wide tree's depth) is set by the host at build
-   time. */
-#ifndef CLVIS_RAY_STACK
-#error "CLVIS_RAY_STACK must be defined"
 #endif
 
 #ifdef CLVIS_RASTER_RULE
@@ -59,9 +51,10 @@ static lanes_i packet_hits_box_rule(const packet* p, clvis_camera_gpu cam, __glo
 }
 
 /* The raster rule on every pixel of the packet for the triangles of a leaf; `cull` becomes each
-   ray's nearest key depth (or far). */
-static void packet_rule_leaf(__global const clvis_bvh_tri* tris, uint first, uint count, __global const clvis_instance* xi,
-                             clvis_camera_gpu cam, int faces, int x0, int y0, ulong* best, lanes_f* cull)
+   ray's nearest key depth (or far). Kept out of line, as packet_test_leaf. */
+static CLVIS_NOINLINE void packet_rule_leaf(__global const clvis_bvh_tri* tris, uint first, uint count,
+                                            __global const clvis_instance* xi, clvis_camera_gpu cam, int faces, int x0,
+                                            int y0, ulong* best, lanes_f* cull)
 {
     clvis_pixel_block blk = {x0, y0, min(CLVIS_PACKET_W, cam.width - x0), min(CLVIS_PACKET_H, cam.height - y0),
                              CLVIS_PACKET_W};
@@ -97,56 +90,93 @@ static int span_children(const packet* p, __global const clvis_bvh4_node* n, flo
     return (bits & ~exact) | or_lanes(lane_bits);
 }
 
-/* The walk of a flat tree for a packet with p->span: a node's four children tested against the
-   whole packet at once (packet_span_hits), nearest entry first, each stack entry (node << 2 | slot)
-   beside its entry bound, so that a pop is skipped by one comparison once every ray's cull lies
-   before it; a leaf is opened only where some ray meets its box (packet_hits_box). The interval
-   test only keeps more boxes than the rays' own tests, so every ray finds the same nearest key. */
-static void walk_span(const packet* p, clvis_camera_gpu cam, __global const clvis_bvh4_node* nodes,
-                      __global const clvis_bvh_tri* tris, int faces, lanes_u* best_t, lanes_u* best_id, lanes_f* cull)
-{
-    uint stack[CLVIS_RAY_STACK];
-    float stack_t[CLVIS_RAY_STACK];
-    float cull_max = max_lanes(*cull);
-    int spread = 0;
-    uint sp = 0, node = 0;
-    for (;;) {
-        __global const clvis_bvh4_node* nd = 0;
-        uint k = 0;
-        if (node != CLVIS_RAY_NONE) {
-            float entry[4], along[4];
-            int bits = span_children(p, nodes + node, cam.near_d, *cull, cull_max, spread, entry);
-            uint order[4], hits = 0;
-            for (int c = 0; c < 4; ++c)
-                if (bits & (1 << c)) clvis_insert_child(order, along, &hits, (uint)c, entry[c]);
-            for (uint i = 0; i < hits; ++i) clvis_prefetch_child(nodes, tris, nodes + node, (int)order[i]);
-            for (uint i = hits; i > 1; --i, ++sp) stack_t[sp] = along[i - 1], stack[sp] = node << 2 | order[i - 1];
-            if (hits > 0) nd = nodes + node, k = order[0];
-            node = CLVIS_RAY_NONE;
-        }
-        while (!nd && sp > 0)
-            if (stack_t[--sp] <= cull_max &&
-                or_lanes(packet_hits_box(p, nodes + (stack[sp] >> 2), stack[sp] & 3, 0, cam.near_d, *cull)) < 0)
-                nd = nodes + (stack[sp] >> 2), k = stack[sp] & 3;
-        if (!nd) break;
-        if (nd->count[k] == 0) node = nd->child[k];
-        else {
-            packet_test_leaf(p, tris, nd->child[k], nd->count[k], 0, cam.near_d, cam.far_d, faces, best_t, best_id,
-                             cull);
-            cull_max = max_lanes(*cull);
-            spread = min_lanes(*cull) * 1.25f < cull_max;
-        }
-    }
-}
 #endif
+
+/* The packet walk's context (CLVIS_WALK_CTX): what its tests read and the nearest keys they keep. */
+typedef struct packet_walk {
+    const packet* p;
+    const clvis_camera_gpu* cam;
+    int faces;
+    lanes_f* cull;      /* each ray's far distance: its nearest key's depth, or far */
+#ifdef CLVIS_RASTER_RULE
+    int x0, y0;         /* the packet's corner */
+    ulong* best;        /* the 16 keys */
+#else
+    lanes_u *best_t, *best_id;
+    float cull_max;     /* WALK_SPAN: the largest cull */
+    int spread;         /* WALK_SPAN: the culls spread (some ray's nearest hit far before another's) */
+#endif
+} packet_walk;
+
+/* The walk's variants: WALK_LANES tests each child by every lane's own test and orders them by
+   their box centres along a central ray, stack entries tested again when popped; WALK_SPAN
+   (a flat tree, a packet with p->span) tests a node's four children against the whole packet
+   at once (span_children), nearest entry bound first, each stack entry beside its entry bound so
+   that a pop is skipped by one comparison once every ray's cull lies before it. The interval test
+   only keeps more boxes than the rays' own tests, so every ray finds the same nearest key. */
+#define WALK_LANES 0
+#define WALK_SPAN 1
+
+#ifdef CLVIS_RASTER_RULE
+#define PACKET_HITS_BOX(c, nd, k, xi) packet_hits_box_rule((c)->p, *(c)->cam, nd, k, xi, *(c)->cull)
+#else
+#define PACKET_HITS_BOX(c, nd, k, xi) packet_hits_box((c)->p, nd, k, xi, (c)->cam->near_d, *(c)->cull)
+#endif
+
+/* The node test: the children some ray meets (the four children's masks as bits 0-3 of each
+   lane, then one reduction for all), keyed by their box centres along a central ray. */
+static inline CLVIS_ALWAYS_INLINE int packet_children(packet_walk* c, int variant, __global const clvis_bvh4_node* nd,
+                                                      __global const clvis_instance* xi, float keys[4])
+{
+#ifndef CLVIS_RASTER_RULE
+    if (variant == WALK_SPAN) return span_children(c->p, nd, c->cam->near_d, *c->cull, c->cull_max, c->spread, keys);
+#endif
+    const packet* p = c->p;
+    int bits = or_lanes((PACKET_HITS_BOX(c, nd, 0, xi) & 1) | (PACKET_HITS_BOX(c, nd, 1, xi) & 2) |
+                        (PACKET_HITS_BOX(c, nd, 2, xi) & 4) | (PACKET_HITS_BOX(c, nd, 3, xi) & 8));
+    for (int k = 0; k < 4; ++k)
+        if (bits & (1 << k))
+            keys[k] = (nd->lo_x[k] + nd->hi_x[k]) * p->cx + (nd->lo_y[k] + nd->hi_y[k]) * p->cy +
+                      (nd->lo_z[k] + nd->hi_z[k]) * p->cz;
+    return bits;
+}
+
+/* The leaf test on every lane; WALK_SPAN follows its culls' largest and spread. */
+static inline CLVIS_ALWAYS_INLINE int packet_leaf(packet_walk* c, int variant, __global const clvis_bvh_tri* tris,
+                                                  uint first, uint count, __global const clvis_instance* xi)
+{
+#ifdef CLVIS_RASTER_RULE
+    packet_rule_leaf(tris, first, count, xi, *c->cam, c->faces, c->x0, c->y0, c->best, c->cull);
+#else
+    packet_test_leaf(c->p, tris, first, count, xi, c->cam->near_d, c->cam->far_d, c->faces, c->best_t, c->best_id,
+                     c->cull);
+    if (variant == WALK_SPAN) {
+        c->cull_max = max_lanes(*c->cull);
+        c->spread = min_lanes(*c->cull) * 1.25f < c->cull_max;
+    }
+#endif
+    return 0;
+}
+
+#define CLVIS_WALK_CTX packet_walk
+#define CLVIS_WALK_CHILDREN(c, v, nd, xi, keys) packet_children(c, v, nd, xi, keys)
+#ifdef CLVIS_RASTER_RULE
+#define CLVIS_WALK_KEY_SKIP(c, v, key) 0
+#else
+#define CLVIS_WALK_KEY_SKIP(c, v, key) ((v) == WALK_SPAN && !((key) <= (c)->cull_max))
+#endif
+/* popped: no lane's sign bit, no ray can still meet the child */
+#define CLVIS_WALK_BOX_SKIP(c, v, nd, k, xi) (or_lanes(PACKET_HITS_BOX(c, nd, k, xi)) >= 0)
+#define CLVIS_WALK_LEAF(c, v, tris, first, count, xi) packet_leaf(c, v, tris, first, count, xi)
+#include "shared/bvh_walk.h"
 
 /* Traces the packet of pixels from (x0, y0) (in the image) and writes the keys of those inside
    `region` into its buffer (shared/region.h); `faces` is the cull mode (CLVIS_CULL_*). Stack
-   entries name a child slot, (4-wide node << 2) | slot, so that a popped child is tested again
-   against the hits found since it was pushed, with the instance it lies in (shared/instance.h:
-   boxes and triangles tested in world space); `two_level` starts in the top level of `instances`.
-   Always inlined: out of line it took the camera by value, a per-work-item copy on PoCL read back
-   across its stores (docs/architecture.md, decision 5). */
+   entries name a child slot, so that a popped child is tested again against the hits found since
+   it was pushed, with the instance it lies in (shared/instance.h: boxes and triangles tested in
+   world space); `two_level` starts in the top level of `instances`. Always inlined: out of line it
+   took the camera by value, a per-work-item copy on PoCL read back across its stores
+   (docs/architecture.md, decision 5). */
 static inline CLVIS_ALWAYS_INLINE void
 trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int y0, __global const clvis_bvh4_node* nodes,
              uint node_count, __global const clvis_bvh_tri* tris, __global const clvis_instance* instances,
@@ -155,80 +185,37 @@ trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int y0, __global
     int x_end = region.x + region.width, y_end = region.y + region.height;
     packet p;
     make_packet(cam, x0, y0, &p);
+    packet_walk c;
+    c.p = &p;
+    c.cam = &cam;
+    c.faces = faces;
 #ifdef CLVIS_RASTER_RULE
     ulong best[CLVIS_PACKET];
     for (int l = 0; l < CLVIS_PACKET; ++l) best[l] = CLVIS_BACKGROUND_KEY;
     lanes_f cull = (lanes_f)(cam.far_d); /* each ray's nearest key depth, or far */
-#define CLVIS_HITS_BOX(nd, k) packet_hits_box_rule(&p, cam, nd, k, xi, cull)
-#define CLVIS_TEST_LEAF(nd, k) packet_rule_leaf(tris, nd->child[k], nd->count[k], xi, cam, faces, x0, y0, best, &cull)
+    c.x0 = x0;
+    c.y0 = y0;
+    c.best = best;
 #else
     lanes_u best_t = (lanes_u)(clvis_float_bits(CLVIS_INFINITY)), best_id = (lanes_u)(CLVIS_BACKGROUND_ID);
     /* each ray's far distance (far, or its nearest hit), scaled for the conservative slab test */
     lanes_f cull = (lanes_f)(cam.far_d * CLVIS_IZE_SCALE);
-#define CLVIS_HITS_BOX(nd, k) packet_hits_box(&p, nd, k, xi, cam.near_d, cull)
-#define CLVIS_TEST_LEAF(nd, k) \
-    packet_test_leaf(&p, tris, nd->child[k], nd->count[k], xi, cam.near_d, cam.far_d, faces, &best_t, &best_id, &cull)
+    c.best_t = &best_t;
+    c.best_id = &best_id;
 #endif
-#define CLVIS_OPEN_LEAF(nd, k)                                                                            \
-    if (inst == CLVIS_INST_TOP)                                                                           \
-        node = clvis_enter_instances(nd->child[k], nd->count[k], instances, stack, stack_inst, &sp, &inst, &xi); \
-    else CLVIS_TEST_LEAF(nd, k)
-
-    uint stack[CLVIS_RAY_STACK], stack_inst[CLVIS_RAY_STACK];
-    uint sp = 0, node = node_count > 0 ? 0u : CLVIS_RAY_NONE;
-    uint inst = two_level ? CLVIS_INST_TOP : CLVIS_INST_FLAT;
-    __global const clvis_instance* xi = 0; /* instance `inst`, or none at the top level and in the flat tree */
+    c.cull = &cull;
+    clvis_walk walk;
+    clvis_walk_stack st;
+    clvis_walk_start(&walk, node_count, two_level);
 #ifndef CLVIS_RASTER_RULE
-    if (node == 0 && p.span && !two_level) { /* then the loop below has nothing left to walk */
-        walk_span(&p, cam, nodes, tris, faces, &best_t, &best_id, &cull);
-        node = CLVIS_RAY_NONE;
+    if (walk.node == 0 && p.span && !two_level) { /* then the walk below has nothing left to walk */
+        c.cull_max = max_lanes(cull);
+        c.spread = 0;
+        while (walk.node != CLVIS_WALK_DONE) clvis_walk_step(&c, WALK_SPAN, 0, nodes, tris, instances, &walk, &st);
     }
 #endif
-    for (;;) {
-        if (node != CLVIS_RAY_NONE) {
-            __global const clvis_bvh4_node* nd = nodes + node;
-            /* The children some ray meets, nearest first by their box centres along a central ray. */
-            uint order[4];
-            float along[4];
-            uint hits = 0;
-            /* the four children's masks as bits 0-3 of each lane, then one reduction for all */
-            int child_bits = or_lanes((CLVIS_HITS_BOX(nd, 0) & 1) | (CLVIS_HITS_BOX(nd, 1) & 2) |
-                                      (CLVIS_HITS_BOX(nd, 2) & 4) | (CLVIS_HITS_BOX(nd, 3) & 8));
-            for (int k = 0; k < 4; ++k) {
-                if (!(child_bits & (1 << k))) continue;
-                float d = (nd->lo_x[k] + nd->hi_x[k]) * p.cx + (nd->lo_y[k] + nd->hi_y[k]) * p.cy +
-                          (nd->lo_z[k] + nd->hi_z[k]) * p.cz;
-                clvis_insert_child(order, along, &hits, (uint)k, d);
-            }
-            node = CLVIS_RAY_NONE;
-            if (hits > 0) {
-                for (uint i = 0; i < hits && inst != CLVIS_INST_TOP; ++i) /* the top level's leaves: instances */
-                    clvis_prefetch_child(nodes, tris, nd, (int)order[i]);
-                for (uint i = hits - 1; i > 0; --i, ++sp)
-                    stack_inst[sp] = inst, stack[sp] = (uint)(nd - nodes) << 2 | order[i];
-                uint k = order[0];
-                if (nd->count[k] > 0) { CLVIS_OPEN_LEAF(nd, k); }
-                else node = nd->child[k];
-            }
-        }
-        /* Pop the next child that some ray may still reach before its nearest hit. */
-        while (node == CLVIS_RAY_NONE && sp > 0) {
-            uint e = stack[--sp];
-            inst = stack_inst[sp];
-            xi = inst < CLVIS_INST_TOP ? instances + inst : 0;
-            if (e == CLVIS_ENTER_INSTANCE) { node = clvis_enter_instance(instances, inst, &inst, &xi); break; }
-            __global const clvis_bvh4_node* nd = nodes + (e >> 2);
-            uint k = e & 3;
-            if (or_lanes(CLVIS_HITS_BOX(nd, (int)k)) >= 0) continue; /* no lane's sign bit */
-            if (nd->count[k] > 0) { CLVIS_OPEN_LEAF(nd, k); }
-            else node = nd->child[k];
-        }
-        if (node == CLVIS_RAY_NONE) break;
-    }
+    while (walk.node != CLVIS_WALK_DONE) clvis_walk_step(&c, WALK_LANES, 1, nodes, tris, instances, &walk, &st);
 
-#undef CLVIS_HITS_BOX
-#undef CLVIS_TEST_LEAF
-#undef CLVIS_OPEN_LEAF
 #ifndef CLVIS_RASTER_RULE
     uint t_bits[CLVIS_PACKET], ids[CLVIS_PACKET];
     vstore16(best_t, 0, t_bits);

@@ -5,9 +5,9 @@
    lanes compute the same operations), every candidate triangle gets the scalar test of
    shared/ray.h (or, with CLVIS_RASTER_RULE, the raster path's predicate of shared/raster_rule.h),
    and the walk only prunes boxes that the packet's walk would prune for this ray, so the nearest
-   key is the same. The walk: the 4-wide BVH (shared/bvh.h), or from the top level of the
-   instances (shared/instance.h), children met pushed with their entry distance, nearest taken
-   first, a popped entry skipped when it lies beyond the nearest key so far. */
+   key is the same. The walk (shared/bvh_walk.h): the 4-wide BVH (shared/bvh.h), or from the top
+   level of the instances (shared/instance.h), children met pushed with their entry distance,
+   nearest taken first, a popped entry skipped when it lies beyond the nearest key so far. */
 #include "shared/bvh.h"
 #include "shared/camera.h"
 #include "shared/instance.h"
@@ -16,14 +16,6 @@
 #include "shared/visibility.h"
 #ifdef CLVIS_RASTER_RULE
 #include "shared/raster_rule.h"
-#endif
-
-#define CLVIS_RAY_NONE 0xFFFFFFFFu
-
-/* CLVIS_RAY_STACK (entries, at least 3 x the 4-wide tree's depth, as ray_trace.cl) is set by the
-   host at build time. */
-#ifndef CLVIS_RAY_STACK
-#error "CLVIS_RAY_STACK must be defined"
 #endif
 
 /* One pixel's ray and its nearest key so far. */
@@ -125,31 +117,36 @@ static void test_leaf(single_ray* r, clvis_camera_gpu cam, int faces, __global c
 }
 #endif
 
-/* The walk's stack: entries (4-wide node << 2) | slot, or CLVIS_ENTER_INSTANCE, each with the
-   instance it lies in and the distance that decides whether it may still hold a nearer key. */
-typedef struct walk_stack {
-    uint entry[CLVIS_RAY_STACK], inst[CLVIS_RAY_STACK];
-    float enter[CLVIS_RAY_STACK];
-    uint sp;
-} walk_stack;
+/* The walk's context (CLVIS_WALK_CTX): the ray and what its tests read. */
+typedef struct single_walk {
+    single_ray* r;
+    const clvis_camera_gpu* cam;
+    int faces;
+} single_walk;
 
-/* Opens child k of node nd, met at distance `at`: returns the node to visit next, or
-   CLVIS_RAY_NONE once a leaf's triangles are tested; a top-level leaf enters its instances (the
-   first now, the others pushed at the leaf's distance). */
-static uint open_child(single_ray* r, clvis_camera_gpu cam, int faces, __global const clvis_bvh4_node* nd, int k,
-                       float at, __global const clvis_bvh_tri* tris, __global const clvis_instance* instances,
-                       walk_stack* st, uint* inst, __global const clvis_instance** xi)
+/* The node test: the children the ray meets, keyed by their entry distance. */
+static inline CLVIS_ALWAYS_INLINE int single_children(single_walk* c, __global const clvis_bvh4_node* nd,
+                                                      __global const clvis_instance* xi, float keys[4])
 {
-    if (nd->count[k] == 0) return nd->child[k];
-    if (*inst == CLVIS_INST_TOP) {
-        uint pushed = st->sp;
-        uint root = clvis_enter_instances(nd->child[k], nd->count[k], instances, st->entry, st->inst, &st->sp, inst, xi);
-        for (; pushed < st->sp; ++pushed) st->enter[pushed] = at;
-        return root;
+    int bits = 0;
+    for (int k = 0; k < 4; ++k) {
+        float e;
+        if (child_hits(c->r, *c->cam, nd, k, xi, &e)) {
+            bits |= 1 << k;
+            keys[k] = e;
+        }
     }
-    test_leaf(r, cam, faces, tris, nd->child[k], nd->count[k], *xi);
-    return CLVIS_RAY_NONE;
+    return bits;
 }
+
+#define CLVIS_WALK_CTX single_walk
+#define CLVIS_WALK_CHILDREN(c, v, nd, xi, keys) single_children(c, nd, xi, keys)
+/* a popped entry that can no longer hold a nearer key */
+#define CLVIS_WALK_KEY_SKIP(c, v, key) ((key) > reach((c)->r, *(c)->cam))
+#define CLVIS_WALK_BOX_SKIP(c, v, nd, k, xi) 0
+#define CLVIS_WALK_LEAF(c, v, tris, first, count, xi) \
+    (test_leaf((c)->r, *(c)->cam, (c)->faces, tris, first, count, xi), 0)
+#include "shared/bvh_walk.h"
 
 /* The nearest key of the ray of pixel (x, y); `two_level` starts in the top level of `instances`. */
 static ulong trace_single(clvis_camera_gpu cam, int x, int y, __global const clvis_bvh4_node* nodes, uint node_count,
@@ -157,41 +154,11 @@ static ulong trace_single(clvis_camera_gpu cam, int x, int y, __global const clv
                           int faces)
 {
     single_ray r = make_ray(cam, x, y);
-    walk_stack st;
-    st.sp = 0;
-    uint node = node_count > 0 ? 0u : CLVIS_RAY_NONE;
-    uint inst = two_level ? CLVIS_INST_TOP : CLVIS_INST_FLAT;
-    __global const clvis_instance* xi = 0; /* instance `inst`, or none at the top level and in the flat tree */
-    while (node != CLVIS_RAY_NONE) {
-        __global const clvis_bvh4_node* nd = nodes + node;
-        /* the children the ray meets, nearest first */
-        uint order[4];
-        float along[4];
-        uint hits = 0;
-        for (int k = 0; k < 4; ++k) {
-            float e;
-            if (child_hits(&r, cam, nd, k, xi, &e)) clvis_insert_child(order, along, &hits, (uint)k, e);
-        }
-        node = CLVIS_RAY_NONE;
-        if (hits > 0) {
-            for (uint i = hits - 1; i > 0; --i, ++st.sp) {
-                st.entry[st.sp] = (uint)(nd - nodes) << 2 | order[i];
-                st.inst[st.sp] = inst;
-                st.enter[st.sp] = along[i];
-            }
-            node = open_child(&r, cam, faces, nd, (int)order[0], along[0], tris, instances, &st, &inst, &xi);
-        }
-        /* pop the next entry that may still hold a nearer key */
-        while (node == CLVIS_RAY_NONE && st.sp > 0) {
-            uint e = st.entry[--st.sp];
-            inst = st.inst[st.sp];
-            xi = inst < CLVIS_INST_TOP ? instances + inst : 0;
-            if (st.enter[st.sp] > reach(&r, cam)) continue;
-            if (e == CLVIS_ENTER_INSTANCE) node = clvis_enter_instance(instances, inst, &inst, &xi);
-            else node = open_child(&r, cam, faces, nodes + (e >> 2), (int)(e & 3u), st.enter[st.sp], tris, instances,
-                                   &st, &inst, &xi);
-        }
-    }
+    single_walk c = {&r, &cam, faces};
+    clvis_walk walk;
+    clvis_walk_stack st;
+    clvis_walk_start(&walk, node_count, two_level);
+    while (walk.node != CLVIS_WALK_DONE) clvis_walk_step(&c, 0, 1, nodes, tris, instances, &walk, &st);
     return r.best;
 }
 

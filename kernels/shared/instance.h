@@ -106,39 +106,4 @@ static inline void clvis_instance_child_box(CLVIS_GLOBAL const clvis_bvh4_node* 
     }
 }
 
-/* The ray walk's levels (ray_trace.cl): the flat tree of a scene without instances, the top
-   level, whose leaves list instances, or instance i's tree. */
-#define CLVIS_INST_FLAT 0xFFFFFFFFu
-#define CLVIS_INST_TOP 0xFFFFFFFEu
-
-/* A stack entry that enters the instance stored beside it. */
-#define CLVIS_ENTER_INSTANCE 0xFFFFFFFFu
-
-/* Enters top-level entry j: instance j (inst j, xi its record), or the plain meshes' tree (walked
-   as the flat tree: inst CLVIS_INST_FLAT, no record). Returns the tree's root node. */
-static inline clvis_u32 clvis_enter_instance(CLVIS_GLOBAL const clvis_instance* instances, clvis_u32 j, clvis_u32* inst,
-                                             CLVIS_GLOBAL const clvis_instance** xi)
-{
-    clvis_u32 tree = instances[j].tree;
-    int plain = (tree & CLVIS_INSTANCE_PLAIN) != 0u;
-    *inst = plain ? CLVIS_INST_FLAT : j;
-    *xi = plain ? 0 : instances + j;
-    return tree & ~CLVIS_INSTANCE_PLAIN;
-}
-
-/* Enters the `count` entries from `first` of a top-level leaf (up to four): the first now (inst,
-   xi), the others pushed as stack entries CLVIS_ENTER_INSTANCE beside their index. Returns the
-   first one's root node. */
-static inline clvis_u32 clvis_enter_instances(clvis_u32 first, clvis_u32 count,
-                                              CLVIS_GLOBAL const clvis_instance* instances, clvis_u32* stack,
-                                              clvis_u32* stack_inst, clvis_u32* sp, clvis_u32* inst,
-                                              CLVIS_GLOBAL const clvis_instance** xi)
-{
-    for (clvis_u32 j = count - 1; j > 0; --j) {
-        stack[*sp] = CLVIS_ENTER_INSTANCE;
-        stack_inst[(*sp)++] = first + j;
-    }
-    return clvis_enter_instance(instances, first, inst, xi);
-}
-
 #endif

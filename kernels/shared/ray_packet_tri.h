@@ -148,9 +148,10 @@ static void packet_test_triangle(const packet* p, const float* vert, uint tri_id
 }
 
 /* Tests the triangles of a leaf on every lane, hits between the view depths near_d and far_d. (Two
-   floats, not the camera: a function the compiler keeps out of line would copy the whole struct
-   at every call.) */
-static void packet_test_leaf(const packet* p, __global const clvis_bvh_tri* tris, uint first, uint count,
+   floats, not the camera: out of line, a struct argument is copied at every call.) Kept out of
+   line: ray_trace.cl's walk (shared/bvh_walk.h) calls it from both its variants, and the compiler
+   would inline it at each, a much larger kernel. */
+static CLVIS_NOINLINE void packet_test_leaf(const packet* p, __global const clvis_bvh_tri* tris, uint first, uint count,
                              __global const clvis_instance* xi, float near_d, float far_d, int faces, lanes_u* best_t,
                              lanes_u* best_id, lanes_f* cull)
 {
