@@ -2,7 +2,7 @@
 # 400 of them are 28 M triangles, about 0.7 GB as an expansion) stays under LIMIT_MB of peak
 # resident memory in every command that reads the whole scene: info (bounds), the ray path's ids,
 # a shaded image, the raster path's ids. Run by CTest as `cmake -P` with -DCLVIS=tool -DTIME=/usr/bin/time
-# -DMESH=scenes/stanford-bunny.obj -DCOUNT=400 -DLIMIT_MB=300 -DWORK=dir.
+# -DMESH=scenes/stanford-bunny.obj -DCOUNT=400 -DLIMIT_MB=400 -DWORK=dir.
 file(REMOVE_RECURSE ${WORK})
 file(MAKE_DIRECTORY ${WORK})
 
