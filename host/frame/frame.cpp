@@ -80,8 +80,19 @@ std::optional<std::vector<StageTiming>> StageRecorder::collect_sum()
 
 std::optional<std::vector<StageTiming>> StageRecorder::collect()
 {
+    // A stage's time is the span of each run of its consecutive events (first start to last end),
+    // summed over its runs: a frame drawn in one pass has one run per stage, as it always had,
+    // and a frame that draws a stage again (chunks of items, a sample drawn again after its list
+    // grew) never counts the other stages between its runs, so the stages sum to at most the frame.
     std::vector<std::string> order;
-    std::vector<std::pair<cl_ulong, cl_ulong>> spans;
+    std::vector<double> ms;
+    std::size_t run_stage = 0;
+    cl_ulong run_start = 0, run_end = 0;
+    bool in_run = false;
+    auto close_run = [&] {
+        if (in_run) ms[run_stage] += double(run_end - run_start) * 1e-6;
+        in_run = false;
+    };
     for (auto& [name, event] : events_) {
         cl_ulong start = 0, end = 0;
         try {
@@ -92,20 +103,26 @@ std::optional<std::vector<StageTiming>> StageRecorder::collect()
             events_.clear();
             return std::nullopt;
         }
-        auto it = std::find(order.begin(), order.end(), name);
-        if (it == order.end()) {
+        std::size_t stage = std::size_t(std::find(order.begin(), order.end(), name) - order.begin());
+        if (stage == order.size()) {
             order.push_back(name);
-            spans.emplace_back(start, end);
-        } else {
-            auto& s = spans[std::size_t(it - order.begin())];
-            s.first = std::min(s.first, start);
-            s.second = std::max(s.second, end);
+            ms.push_back(0.0);
         }
+        if (in_run && stage == run_stage) {
+            run_start = std::min(run_start, start);
+            run_end = std::max(run_end, end);
+            continue;
+        }
+        close_run();
+        in_run = true;
+        run_stage = stage;
+        run_start = start;
+        run_end = end;
     }
+    close_run();
     events_.clear();
     std::vector<StageTiming> out;
-    for (std::size_t i = 0; i < order.size(); ++i)
-        out.push_back({order[i], double(spans[i].second - spans[i].first) * 1e-6});
+    for (std::size_t i = 0; i < order.size(); ++i) out.push_back({order[i], ms[i]});
     return out;
 }
 

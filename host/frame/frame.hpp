@@ -44,8 +44,9 @@ class StageRecorder {
 public:
     /// Records `event` under `stage` (stages keep the order of their first event).
     void add(const std::string& stage, const cl::Event& event);
-    /// Device time per stage in ms (end of last event - start of first, per stage), then clears;
-    /// nullopt when the queue has no profiling (a wrapped queue made without it).
+    /// Device time per stage in ms: per run of consecutive events of the stage, end of its last
+    /// event - start of its first, summed over the stage's runs (one run per stage in a one-pass
+    /// frame; several when chunks or a redraw repeat it), then clears; nullopt when the queue has no profiling (a wrapped queue made without it).
     std::optional<std::vector<StageTiming>> collect();
     /// Device time per stage as the sum of its events' durations (a batch's kernels, however
     /// interleaved), then clears; nullopt when the queue has no profiling.

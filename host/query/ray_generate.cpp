@@ -2,6 +2,7 @@
 // any-hit query (ray_query.cpp), in chunks of pixels so device memory stays bounded: ambient
 // occlusion and shadows toward a point light, resolved per pixel on the host.
 #include "query/ray_query_impl.hpp"
+#include "render/sample_scene.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -54,18 +55,21 @@ void RayQuery::Impl::reserve_generated(std::size_t rays)
 }
 
 /// Sets the arguments of a generator kernel that stay the same from chunk to chunk (its
-/// arguments from 9 on are set by the caller).
-static void bind_generator(RayQuery::Impl& m, cl::Kernel& generate, const VisibilityBuffer& vis,
-                           const clvis_camera_gpu& g, int per_pixel, const cl::Buffer& rays)
+/// arguments from 9 on are set by the caller). Returns the scene it reads (a scene with instances:
+/// the keys' triangles, render/sample_scene.hpp), to be kept while the kernel runs.
+static SampleScene bind_generator(RayQuery::Impl& m, cl::Kernel& generate, const VisibilityBuffer& vis,
+                                  const clvis_camera_gpu& g, int per_pixel, const cl::Buffer& rays)
 {
     Renderer::Impl& r = m.r;
-    generate.setArg(0, cl::Buffer(vis.keys(), true));
+    SampleScene scene = sample_scene(r, vis, true);
+    generate.setArg(0, scene.keys);
     generate.setArg(1, sizeof g, &g);
-    generate.setArg(2, r.scene_buffers().positions);
-    generate.setArg(3, r.scene_buffers().indices);
+    generate.setArg(2, scene.scene.positions);
+    generate.setArg(3, scene.scene.indices);
     generate.setArg(6, cl_uint(per_pixel));
     generate.setArg(7, float(surface_offset * diagonal(r.scene)));
     generate.setArg(8, rays);
+    return scene;
 }
 
 /// Enqueues the generation of the rays of pixels [first, first + n).
@@ -103,7 +107,8 @@ static PixelRays pixel_rays(RayQuery::Impl& m, const VisibilityBuffer& vis, cons
     try {
         m.reserve_generated(chunk_rays);
         const cl::Buffer &rays = m.generated_rays, &hit = m.generated_flags;
-        bind_generator(m, generate, vis, make_gpu_camera(camera, out.width, out.height), per_pixel, rays);
+        SampleScene scene =
+            bind_generator(m, generate, vis, make_gpu_camera(camera, out.width, out.height), per_pixel, rays);
         for (std::size_t first = 0; first < pixels; first += chunk) {
             std::size_t n = std::min(chunk, pixels - first), n_rays = n * std::size_t(per_pixel);
             generate_chunk(m, generate, first, n, per_pixel);
@@ -169,7 +174,8 @@ std::vector<RayRecord> RayQuery::ambient_occlusion_rays(const VisibilityBuffer& 
         std::size_t chunk = chunk_pixels(m, pixels, options.rays);
         m.reserve_generated(chunk * per);
         std::vector<RayRecord> out(pixels * per);
-        bind_generator(m, generate, vis, make_gpu_camera(camera, vis.width(), vis.height()), options.rays, m.generated_rays);
+        clvis_camera_gpu g = make_gpu_camera(camera, vis.width(), vis.height());
+        SampleScene scene = bind_generator(m, generate, vis, g, options.rays, m.generated_rays);
         for (std::size_t first = 0; first < pixels; first += chunk) {
             std::size_t n = std::min(chunk, pixels - first);
             generate_chunk(m, generate, first, n, options.rays);

@@ -18,8 +18,7 @@ std::string BaryVerdict::describe(int x, int y) const
 }
 
 BarycentricReferee::BarycentricReferee(const Scene& scene, const Camera& camera, int width, int height)
-    : camera_(camera), width_(width), height_(height), positions_(scene.world_positions()),
-      indices_(scene.world_indices())
+    : camera_(camera), width_(width), height_(height), scene_(scene)
 {
     camera.validate();
     if (width <= 0 || height <= 0)
@@ -28,10 +27,9 @@ BarycentricReferee::BarycentricReferee(const Scene& scene, const Camera& camera,
 
 void BarycentricReferee::vertices(std::uint32_t id, Vec3 out[3]) const
 {
-    for (int k = 0; k < 3; ++k) {
-        std::size_t v = indices_.at(3 * std::size_t(id) + k);
-        out[k] = {positions_[3 * v], positions_[3 * v + 1], positions_[3 * v + 2]};
-    }
+    float w[9];
+    scene_.triangle(id, w); // the item's own vertices through its transform: nothing expanded
+    for (int k = 0; k < 3; ++k) out[k] = {w[3 * k], w[3 * k + 1], w[3 * k + 2]};
 }
 
 double BarycentricReferee::plane_depth(std::uint32_t id, double sx, double sy) const
@@ -53,7 +51,7 @@ BaryVerdict BarycentricReferee::judge_at(double sx, double sy, std::uint32_t id,
         b.px_error = b.ok ? 0 : std::numeric_limits<double>::infinity();
         return b;
     }
-    if (std::size_t(id) * 3 >= indices_.size()) {
+    if (id >= scene_.triangle_count()) {
         b.ok = false;
         b.px_error = std::numeric_limits<double>::infinity();
         return b;

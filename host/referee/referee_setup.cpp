@@ -2,6 +2,7 @@
 // scene's float32 vertices (edge functions in raster pixels, the depth of its plane along primary
 // rays, its visible part clipped to the depth range and projected), then binned into pixel tiles.
 #include "referee/referee_impl.hpp"
+#include "scene/instance_transform.hpp"
 
 #include <clvis/error.hpp>
 
@@ -98,23 +99,36 @@ void Referee::Impl::setup(const Scene& scene)
     far_in = camera.far * (1 - rel);
     far_hi = camera.far * (1 + rel);
 
-    const std::vector<float>& pos = scene.world_positions();
-    const std::vector<std::uint32_t>& idx = scene.world_indices();
+    // Item by item, through each item's transform as world_positions() computes it: the expansion's
+    // float32 vertices without the expansion (a scene of many instances need not fit expanded).
     CameraFrame fr = camera.frame();
-    std::vector<Vec3> cam(pos.size() / 3);
-    for (std::size_t v = 0; v < cam.size(); ++v) {
-        Vec3 d = Vec3{pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]} - camera.eye;
-        cam[v] = {dot(d, fr.r), dot(d, fr.u), -dot(d, fr.f)}; // Camera::to_camera
-    }
-    tris.resize(idx.size() / 3);
-    for (std::size_t i = 0; i < tris.size(); ++i) {
-        Vec3 w[3], c[3];
-        for (int k = 0; k < 3; ++k) {
-            std::uint32_t v = idx[3 * i + k];
-            w[k] = {pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]};
-            c[k] = cam[v];
+    tris.resize(scene.triangle_count());
+    std::vector<float> pos;
+    std::vector<Vec3> cam;
+    for (std::size_t item = 0; item < scene.meshes().size(); ++item) {
+        const MeshData& data = scene.data_of(item);
+        pos.resize(data.positions.size());
+        detail::transform_positions(scene.meshes()[item].transform, data.positions.data(), data.vertex_count(),
+                                    pos.data());
+        cam.resize(data.vertex_count());
+        for (std::size_t v = 0; v < cam.size(); ++v) {
+            if (!std::isfinite(pos[3 * v]) || !std::isfinite(pos[3 * v + 1]) || !std::isfinite(pos[3 * v + 2]))
+                throw Error(Error::Kind::InvalidArgument,
+                            "mesh '" + data.name + "': a transformed vertex overflows float32");
+            Vec3 d = Vec3{pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]} - camera.eye;
+            cam[v] = {dot(d, fr.r), dot(d, fr.u), -dot(d, fr.f)}; // Camera::to_camera
         }
-        setup_triangle(tris[i], w, c);
+        std::size_t first = scene.meshes()[item].first_triangle;
+        const std::vector<std::uint32_t>& idx = data.indices;
+        for (std::size_t i = 0; i < data.triangle_count(); ++i) {
+            Vec3 w[3], c[3];
+            for (int k = 0; k < 3; ++k) {
+                std::uint32_t v = idx[3 * i + std::size_t(k)];
+                w[k] = {pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]};
+                c[k] = cam[v];
+            }
+            setup_triangle(tris[first + i], w, c);
+        }
     }
     bin();
 }

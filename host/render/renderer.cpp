@@ -5,6 +5,7 @@
 
 #include "render/raster_tune.hpp"
 #include "render/renderer_probe.hpp"
+#include "render/sample_scene.hpp"
 #include "render/ray_tune.hpp"
 
 #include <clvis/renderer.hpp>
@@ -49,31 +50,16 @@ void check_region(const Region& r, int width, int height)
                         std::to_string(width) + "x" + std::to_string(height) + " image");
 }
 
-/// World-space vertex normals (inverse transpose of each mesh's linear part), zero where a mesh
-/// has none: shading then falls back to the triangle's flat normal.
+/// World-space vertex normals (world_normal of each vertex), zero where a mesh has none: shading
+/// then falls back to the triangle's flat normal.
 std::vector<float> world_normals(const Scene& scene)
 {
     std::vector<float> out(scene.vertex_count() * 3, 0.0f);
     std::size_t v = 0;
     for (std::size_t item = 0; item < scene.meshes().size(); ++item) {
-        const auto& m = scene.meshes()[item];
         const MeshData& data = scene.data_of(item);
-        const auto& n = data.normals;
-        if (!n.empty()) {
-            const Mat4& t = m.transform;
-            // Cofactor matrix of the linear part: proportional to the inverse transpose.
-            double a = t(0, 0), b = t(0, 1), c = t(0, 2), d = t(1, 0), e = t(1, 1), f = t(1, 2),
-                   g = t(2, 0), h = t(2, 1), k = t(2, 2);
-            double cof[9] = {e * k - f * h, f * g - d * k, d * h - e * g, c * h - b * k, a * k - c * g,
-                             b * g - a * h, b * f - c * e, c * d - a * f, a * e - b * d};
-            for (std::size_t i = 0; i < n.size(); i += 3) {
-                double x = n[i], y = n[i + 1], z = n[i + 2];
-                double w[3] = {cof[0] * x + cof[1] * y + cof[2] * z, cof[3] * x + cof[4] * y + cof[5] * z,
-                               cof[6] * x + cof[7] * y + cof[8] * z};
-                double len = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-                for (int k2 = 0; k2 < 3; ++k2) out[v * 3 + i + k2] = len > 0 ? float(w[k2] / len) : 0.0f;
-            }
-        }
+        for (std::size_t i = 0; i < data.normals.size(); i += 3)
+            world_normal(scene.meshes()[item].transform, &data.normals[i], &out[v * 3 + i]);
         v += data.vertex_count();
     }
     return out;
@@ -106,7 +92,8 @@ void Renderer::Impl::upload_all()
         if (gpu.has_normals) {
             auto normals = world_normals(scene);
             gpu.normals = cl::Buffer(dev().context, CL_MEM_READ_ONLY, pos_bytes);
-            queue.enqueueWriteBuffer(gpu.normals, CL_FALSE, 0, normals.size() * 4, normals.data());
+            // Blocking: `normals` dies at the end of this block, before the finish below.
+            queue.enqueueWriteBuffer(gpu.normals, CL_TRUE, 0, normals.size() * 4, normals.data());
         } else {
             gpu.normals = cl::Buffer(dev().context, CL_MEM_READ_ONLY, 16);
         }

@@ -1,6 +1,7 @@
 // Resolving a visibility buffer into attributes (kernels/resolve.cl) on the renderer's queue, and
 // reading them back into the caller's storage.
 #include "render/renderer_impl.hpp"
+#include "render/sample_scene.hpp"
 
 #include "shared/resolve.h"
 
@@ -114,9 +115,10 @@ void resolve(Renderer& renderer, const VisibilityBuffer& vis, const Camera& came
         cl::Buffer dummy(r.dev().context, CL_MEM_READ_WRITE, 16);
         cl::Kernel kernel(r.dev().program("resolve"), "resolve");
         clvis_camera_gpu g = make_gpu_camera(camera, vis.width(), vis.height());
-        kernel.setArg(0, cl::Buffer(vis.keys(), true));
+        SampleScene scene = sample_scene(r, vis, true); // a scene with instances: the keys' triangles
+        kernel.setArg(0, scene.keys);
         kernel.setArg(1, sizeof g, &g);
-        r.scene_buffers().set_args(kernel, 2);
+        scene.scene.set_args(kernel, 2);
         int what = 0;
         for (int k = 0; k < attribute_count; ++k) {
             Attribute a = all_attributes[k];

@@ -1,6 +1,7 @@
 // Shading over a visibility buffer (kernels/shade.cl): the buffer's keys and the renderer's
 // resident scene in, an RGBA8 image out.
 #include "render/renderer_impl.hpp"
+#include "render/sample_scene.hpp"
 
 #include "shared/shade.h"
 
@@ -32,10 +33,12 @@ Image shade(Renderer& renderer, const VisibilityBuffer& vis, const Camera& camer
         cl::Buffer out(r.dev().context, CL_MEM_WRITE_ONLY, image.rgba.size());
         clvis_camera_gpu g = make_gpu_camera(camera, image.width, image.height);
         g.sample_log2 = samples_log2(vis.samples()); // the mean of each pixel's samples
-        kernel.setArg(0, cl::Buffer(vis.keys(), true));
+        // A scene with instances: only the triangles the keys name, and only for Lambert.
+        SampleScene scene = sample_scene(r, vis, mode == CLVIS_SHADE_LAMBERT);
+        kernel.setArg(0, scene.keys);
         kernel.setArg(1, out);
         kernel.setArg(2, sizeof g, &g);
-        r.scene_buffers().set_args(kernel, 3);
+        scene.scene.set_args(kernel, 3);
         kernel.setArg(8, cl_int(mode));
         kernel.setArg(9, float(light.x));
         kernel.setArg(10, float(light.y));

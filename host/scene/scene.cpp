@@ -6,12 +6,15 @@
 #include <clvis/scene.hpp>
 
 #include "scene/instance_transform.hpp"
+#include "scene/scene_probe.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 
 namespace clvis {
+
+std::atomic<std::uint64_t> detail::expansion_vertices_built{0};
 
 namespace {
 
@@ -149,6 +152,16 @@ void Scene::set_transform(std::size_t mesh, const Mat4& transform)
     invalidate();
 }
 
+namespace {
+
+/// Error(InvalidArgument) as world_positions gives it for an item whose float32 world vertex overflows.
+[[noreturn]] void overflows(const std::string& mesh)
+{
+    throw Error(Error::Kind::InvalidArgument, "mesh '" + mesh + "': a transformed vertex overflows float32");
+}
+
+} // namespace
+
 void Scene::invalidate() { world_valid_ = false; }
 
 const std::vector<float>& Scene::world_positions() const
@@ -166,11 +179,13 @@ const std::vector<float>& Scene::world_positions() const
             v += data.vertex_count();
         }
         for (std::size_t i = 0; i < world_positions_.size(); ++i)
-            if (!std::isfinite(world_positions_[i]))
-                throw Error(Error::Kind::InvalidArgument,
-                            "mesh '" + data_of(mesh_of_vertex(i / 3)).name +
-                                "': a transformed vertex overflows float32");
+            if (!std::isfinite(world_positions_[i])) overflows(data_of(mesh_of_vertex(i / 3)).name);
         world_valid_ = true;
+        for (const Mesh& m : meshes_)
+            if (m.prototype != no_prototype) {
+                detail::expansion_vertices_built += vertex_count_; // an expansion of instances
+                break;
+            }
     }
     return world_positions_;
 }
@@ -193,9 +208,23 @@ const std::vector<std::uint32_t>& Scene::world_indices() const
 
 Bounds Scene::bounds() const
 {
-    const auto& p = world_positions();
+    // Item by item, a block of world vertices at a time: the bits world_positions() would hold,
+    // without the expansion (a scene of many instances need not fit expanded).
     Bounds b;
-    for (std::size_t i = 0; i < p.size(); i += 3) b.add(Vec3{p[i], p[i + 1], p[i + 2]});
+    constexpr std::size_t block = 4096;
+    float w[block * 3];
+    for (std::size_t k = 0; k < meshes_.size(); ++k) {
+        const MeshData& data = data_of(k);
+        for (std::size_t v = 0; v < data.vertex_count(); v += block) {
+            std::size_t n = std::min(block, data.vertex_count() - v);
+            detail::transform_positions(meshes_[k].transform, &data.positions[v * 3], n, w);
+            for (std::size_t i = 0; i < n * 3; i += 3) {
+                if (!std::isfinite(w[i]) || !std::isfinite(w[i + 1]) || !std::isfinite(w[i + 2]))
+                    overflows(data.name);
+                b.add(Vec3{w[i], w[i + 1], w[i + 2]});
+            }
+        }
+    }
     return b;
 }
 
@@ -203,12 +232,15 @@ void Scene::triangle(std::uint32_t id, float out[9]) const
 {
     if (id >= triangle_count_)
         throw Error(Error::Kind::InvalidArgument, "Scene::triangle: no triangle " + std::to_string(id));
-    const auto& p = world_positions();
+    // The item's own vertices through its transform: world_positions()'s bits, nothing expanded.
+    std::size_t item = mesh_of(id);
+    const MeshData& data = data_of(item);
+    std::size_t local = id - meshes_[item].first_triangle;
     for (int k = 0; k < 3; ++k) {
-        std::uint32_t v = world_indices_[std::size_t(id) * 3 + k];
-        out[k * 3 + 0] = p[std::size_t(v) * 3 + 0];
-        out[k * 3 + 1] = p[std::size_t(v) * 3 + 1];
-        out[k * 3 + 2] = p[std::size_t(v) * 3 + 2];
+        std::uint32_t v = data.indices[local * 3 + std::size_t(k)];
+        detail::transform_positions(meshes_[item].transform, &data.positions[std::size_t(v) * 3], 1, &out[k * 3]);
+        if (!std::isfinite(out[k * 3]) || !std::isfinite(out[k * 3 + 1]) || !std::isfinite(out[k * 3 + 2]))
+            overflows(data.name);
     }
 }
 

@@ -40,7 +40,7 @@ struct BaryReport {
 
 class BarycentricReferee {
 public:
-    /// Copies the scene's world positions; Error(InvalidArgument) for an invalid camera or size.
+    /// Copies the scene (its items, not their expansion); Error(InvalidArgument) for an invalid camera or size.
     BarycentricReferee(const Scene& scene, const Camera& camera, int width, int height);
 
     /// Judges (u, v) answered with triangle `id` (or background_id) and the buffer's `depth` at
@@ -58,8 +58,7 @@ public:
 private:
     Camera camera_;
     int width_, height_;
-    std::vector<float> positions_;
-    std::vector<std::uint32_t> indices_;
+    Scene scene_; ///< items and prototypes, never the expansion
 };
 
 } // namespace clvis

@@ -59,8 +59,9 @@ public:
     /// before it) and returns its item index in meshes(). Error(InvalidArgument) for a prototype
     /// that does not exist or a transform add_mesh would refuse; Error(Limit) past max_triangles.
     /// The prototype is stored once on the host, and on the device by the ray and raster paths;
-    /// Path::Brute, ray queries with brute set, resolve and shading still upload the expansion
-    /// (world_positions).
+    /// shading, resolve and AO and shadow rays upload only the triangles a buffer shows, and
+    /// bounds(), triangle() and the referees read the items; Path::Brute and ray queries with
+    /// brute set still upload the expansion (world_positions).
     std::size_t add_instance(std::size_t prototype, const Mat4& transform);
 
     /// Replaces the positions of mesh `mesh` (same vertex count): animation. Renderers that
@@ -77,15 +78,19 @@ public:
     std::size_t vertex_count() const { return vertex_count_; }
     bool empty() const { return triangle_count_ == 0; }
 
-    /// World-space bounds of every vertex referenced or not (transforms applied).
+    /// World-space bounds of every vertex referenced or not (transforms applied): the bounds of
+    /// world_positions(), computed item by item without it.
     Bounds bounds() const;
 
     /// World-space positions of every vertex, meshes concatenated (float32, transforms applied
-    /// in double and rounded once). Computed on demand and cached until the next change.
+    /// by kernels/shared/instance.h). Computed on demand and cached until the next
+    /// change: the whole expansion, so nothing in the library calls it for a scene with
+    /// instances but the brute-force references.
     const std::vector<float>& world_positions() const;
     /// Indices into world_positions(), 3 per triangle, in id order.
     const std::vector<std::uint32_t>& world_indices() const;
-    /// The world-space vertices of triangle `id` (9 floats).
+    /// The world-space vertices of triangle `id` (9 floats): world_positions()'s bits, computed
+    /// from its item without the expansion.
     void triangle(std::uint32_t id, float out[9]) const;
     /// Which mesh holds triangle `id`.
     std::size_t mesh_of(std::uint32_t id) const;
