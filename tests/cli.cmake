@@ -77,7 +77,44 @@ if(WITH_IMAGE_IO)
       set(failures "${failures}\n  render --path all --image: ${file} not written")
     endif()
   endforeach()
+  # All of a run's files or none (CONVENTIONS.md "Output files"): a file that cannot be written is
+  # refused before rendering, naming its flag, and the others are not written either; so is one
+  # name for several views (without {view}), for two outputs, or for several MPI processes.
+  file(MAKE_DIRECTORY ${WORK}/none)
+  set(none ${WORK}/none)
+  expect(2 "--depth: .*/no/such/dir/z.exr.*no folder" render ${MESH} ${size} --ids ${none}/ok.tif
+         --depth /no/such/dir/z.exr)
+  expect(2 "--depth: .*/no/such/dir/z-raster.exr" render ${MESH} ${size} --path all --ids ${none}/ok.tif
+         --depth /no/such/dir/z.exr)
+  expect(2 "--visible: .*\\.txt" render ${MESH} ${size} --ids ${none}/ok.tif --visible ${none}/ids.csv)
+  expect(2 "--depth: .*also the file of --ids" render ${MESH} ${size} --ids ${none}/same.exr --depth ${none}/same.exr)
+  file(WRITE ${none}/two.json "{\"width\": 32, \"height\": 24, \"views\": [
+    {\"eye\": [0, 0.4, 3], \"target\": [0, 0.3, 0], \"fov\": 40}, {\"eye\": [3, 0, 0], \"target\": [0, 0.3, 0], \"fov\": 40}]}")
+  expect(2 "--ids: .*out.tif' would be written 2 times.*\\{view\\}" render ${MESH} --views ${none}/two.json
+         --ids ${none}/out.tif -q)
+  set(ENV{OMPI_COMM_WORLD_SIZE} 2)
+  expect(2 "--distribute: .*2 MPI processes" render ${MESH} ${size} --ids ${none}/x.tif)
+  unset(ENV{OMPI_COMM_WORLD_SIZE})
+  file(GLOB left ${none}/*)
+  list(REMOVE_ITEM left ${none}/two.json)
+  if(left)
+    set(failures "${failures}\n  runs refused or failed left files behind: ${left}")
+  endif()
+  # Written under temporary names, renamed at the end: nothing else is left in the folder.
+  expect(0 "wrote ${none}/v-0.tif.*wrote ${none}/v-1.exr" render ${MESH} --views ${none}/two.json
+         --ids ${none}/v-{view}.tif --depth ${none}/v-{view}.exr --visible ${none}/v-{view}.txt)
+  file(GLOB left RELATIVE ${none} ${none}/*)
+  list(SORT left)
+  if(NOT left STREQUAL "two.json;v-0.exr;v-0.tif;v-0.txt;v-1.exr;v-1.tif;v-1.txt")
+    set(failures "${failures}\n  render --views: files left ${left}")
+  endif()
 endif()
+# Flags are checked before any file is read, naming the flag.
+expect(2 "--samples: .*1, 2, 4, 8 or 16, got 3" render ${WORK}/missing-mesh.obj --samples 3)
+expect(2 "--tile: .*power of two" render ${WORK}/missing-mesh.obj --tile 12)
+expect(2 "--leaf-size" render ${WORK}/missing-mesh.obj --leaf-size 0)
+expect(2 "--ao: needs --image" render ${WORK}/missing-mesh.obj --ao 4)
+expect(2 "--bary: for one device in one process" render ${WORK}/missing-mesh.obj --devices 0,0 --bary ${WORK}/b.exr)
 
 # A scene file: its size and its (physical) camera are honoured by render, info and compare.
 file(WRITE ${WORK}/scene.json "{\"meshes\": [{\"file\": \"${MESH}\"}], \"width\": 80, \"height\": 40,
