@@ -58,6 +58,10 @@ expect(2 "clvis: --devices: expected SPEC,SPEC" render ${MESH} --devices 0,,1)
 expect(2 "clvis: --device-map: needs --devices" render ${MESH} --device-map ${WORK}/map.png)
 expect(2 "--screen-tile" render ${MESH} --devices 0,0 --screen-tile 0)
 expect(0 "render" --help)
+# Every mesh format that load_mesh reads is listed.
+foreach(command render info rays compare)
+  expect(0 "OBJ, PLY, STL, glTF 2.0: .gltf, .glb" ${command} --help)
+endforeach()
 expect(0 "clvis [0-9]" --version)
 
 set(size --width 64 --height 48 --quiet)
