@@ -152,6 +152,33 @@ if(EXISTS ${WORK}/hits.txt)
   set(failures "${failures}\n  rays --hits hits.txt: written")
 endif()
 
+# -q says nothing while kernels are compiled (cold caches: PoCL's Clang prints its warnings'
+# count on standard error itself unless built with -w); --verbose prints each build log.
+file(MAKE_DIRECTORY ${WORK}/cold-clvis ${WORK}/cold-pocl)
+set(warm_clvis "$ENV{CLVIS_CACHE_DIR}")
+set(warm_pocl "$ENV{POCL_CACHE_DIR}")
+set(ENV{CLVIS_CACHE_DIR} ${WORK}/cold-clvis)
+set(ENV{POCL_CACHE_DIR} ${WORK}/cold-pocl)
+execute_process(COMMAND ${CLVIS} render ${MESH} ${size} --path ray RESULT_VARIABLE got ERROR_VARIABLE err)
+if(NOT got EQUAL 0 OR NOT err STREQUAL "")
+  set(failures "${failures}\n  render -q on cold caches: status ${got}, said: ${err}")
+endif()
+file(REMOVE_RECURSE ${WORK}/cold-clvis ${WORK}/cold-pocl)
+file(MAKE_DIRECTORY ${WORK}/cold-clvis ${WORK}/cold-pocl)
+expect(0 "clvis: built kernels/ray_trace[a-z_]*.cl for .* with '[^']*':" render ${MESH} ${size} --path ray --verbose)
+foreach(var CLVIS_CACHE_DIR POCL_CACHE_DIR) # as they were: PoCL refuses an empty POCL_CACHE_DIR
+  if(var STREQUAL "CLVIS_CACHE_DIR")
+    set(value "${warm_clvis}")
+  else()
+    set(value "${warm_pocl}")
+  endif()
+  if(value STREQUAL "")
+    unset(ENV{${var}})
+  else()
+    set(ENV{${var}} "${value}")
+  endif()
+endforeach()
+
 # Flags are checked before any file is read, naming the flag.
 expect(2 "--samples: .*1, 2, 4, 8 or 16, got 3" render ${WORK}/missing-mesh.obj --samples 3)
 expect(2 "--tile: .*power of two" render ${WORK}/missing-mesh.obj --tile 12)

@@ -62,6 +62,10 @@ struct SceneInput {
     std::string scene_file() const;
 };
 
+/// --verbose: also print each kernel program's build log (compiler warnings included) on standard
+/// error as it is built (CLVIS_BUILD_LOG=1 for the library); without it builds say nothing.
+void add_verbose_flag(CLI::App& app);
+
 /// True when `path` names a scene file (.json, any case).
 bool is_scene_file(const std::string& path);
 

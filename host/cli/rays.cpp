@@ -121,6 +121,7 @@ void add_rays_command(CLI::App& app)
     cmd->add_flag("--brute", args->brute, "test every triangle instead of walking the BVH");
     cmd->add_flag("--json", args->json, "print one JSON object with the counts and timings on standard output");
     cmd->add_flag("--quiet,-q", args->quiet, "say nothing on standard error");
+    add_verbose_flag(*cmd);
     cmd->callback([args] { rays_command(*args); });
 }
 

@@ -417,6 +417,7 @@ void add_render_command(CLI::App& app)
                   "what a one-off render pays before its first frame: device open, renderer (upload), prepare "
                   "(program build; BVH for ray) and the first frame against the next (with --json: first_frame)");
     cmd->add_flag("--quiet,-q", args->quiet, "say nothing on standard error");
+    add_verbose_flag(*cmd);
     cmd->callback([args] { render_command(*args); });
 }
 
