@@ -13,7 +13,6 @@
 #include <clvis/views_file.hpp>
 
 #include <algorithm>
-#include <cctype>
 #include <cstdio>
 #include <functional>
 #include <iostream>

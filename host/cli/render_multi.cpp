@@ -6,6 +6,7 @@
 #include "bench_stats.hpp"
 
 #include <clvis/multi_device.hpp>
+#include <clvis/views_file.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -59,8 +60,9 @@ void write_files(const SpreadRequest& r, const MultiDeviceFrame& f)
     if (r.ids.empty() && r.depth.empty() && device_map.empty()) return;
 #if CLVIS_WITH_IMAGE_IO
     HostVisibility vis = split_keys(f.keys.data(), f.width, f.height);
-    if (!r.ids.empty()) write_ids(r.plan->temporary(r.ids), vis);
-    if (!r.depth.empty()) write_depth(r.plan->temporary(r.depth), vis);
+    // One view: "{view}" in a name is 0, as render.cpp planned it.
+    if (!r.ids.empty()) write_ids(r.plan->temporary(view_file_name(r.ids, 0, 0)), vis);
+    if (!r.depth.empty()) write_depth(r.plan->temporary(view_file_name(r.depth, 0, 0)), vis);
     if (!device_map.empty()) write_image(r.plan->temporary(device_map), device_map_image(f));
     for (const std::string& file : r.plan->commit())
         if (!r.quiet) std::cerr << "clvis: wrote " << file << "\n";
