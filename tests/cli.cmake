@@ -184,6 +184,8 @@ expect(2 "--samples: .*1, 2, 4, 8 or 16, got 3" render ${WORK}/missing-mesh.obj 
 expect(2 "--tile: .*power of two" render ${WORK}/missing-mesh.obj --tile 12)
 expect(2 "--leaf-size" render ${WORK}/missing-mesh.obj --leaf-size 0)
 expect(2 "--ao: needs --image" render ${WORK}/missing-mesh.obj --ao 4)
+expect(2 "--normals: attributes are resolved at one sample" render ${WORK}/missing-mesh.obj --samples 2
+       --normals ${WORK}/n.exr)
 expect(2 "--bary: for one device in one process" render ${WORK}/missing-mesh.obj --devices 0,0 --bary ${WORK}/b.exr)
 
 # A scene file: its size and its (physical) camera are honoured by render, info and compare.

@@ -217,6 +217,11 @@ std::vector<Path> check_flags(const RenderArgs& a)
     if (a.ao > 0 && a.image.empty()) refuse("--ao: needs --image FILE to write");
     if (a.options.samples != 1 && (a.ao > 0 || a.spread.any() || !a.views.empty()))
         refuse("--samples: --ao, --views, --devices, --distribute draw 1 per pixel");
+    if (a.options.samples != 1)
+        for (const auto& [flag, file, kind] : output_flags(a))
+            if (!file.empty() && kind == OutputKind::Floats)
+                refuse(flag + ": attributes are resolved at one sample per pixel; --samples " +
+                       std::to_string(a.options.samples) + " is for --ids, --depth, --image and --visible");
     if (a.path == "all" && !a.views.empty()) refuse("--views: renders one path (--path raster, ray or brute), not all");
     if (a.spread.any()) {
         for (const auto& [flag, file, kind] : output_flags(a))
