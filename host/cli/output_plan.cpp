@@ -93,9 +93,9 @@ void OutputPlan::add(const std::string& flag, const std::string& file, OutputKin
     if (::access(folder.c_str(), W_OK) != 0)
         refuse(flag + ": cannot write '" + file + "': the folder " + folder.string() + " is not writable");
     if (fs::is_directory(file, ec)) refuse(flag + ": cannot write '" + file + "': it is a folder");
-    for (const Entry& e : files_)
-        if (fs::weakly_canonical(e.file, ec) == fs::weakly_canonical(file, ec))
-            refuse(flag + ": '" + file + "' is also the file of " + e.flag + "; give each output its own name");
+    std::string canonical = fs::weakly_canonical(fs::absolute(file, ec), ec).string();
+    if (auto [it, fresh] = canonical_.emplace(canonical, flag); !fresh)
+        refuse(flag + ": '" + file + "' is also the file of " + it->second + "; give each output its own name");
     auto dot = std::min(extension_at(file), file.size());
     std::string tmp = ".tmp-" + std::to_string(::getpid());
     files_.push_back({flag, file, file.substr(0, dot) + tmp + file.substr(dot)});

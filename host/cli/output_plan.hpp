@@ -4,6 +4,7 @@
 // when the whole run succeeded; a run that fails leaves no new file behind.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,7 @@ private:
         std::string flag, file, temporary;
     };
     std::vector<Entry> files_;
+    std::map<std::string, std::string> canonical_; ///< each file's canonical path -> its flag
     bool committed_ = false;
 };
 
