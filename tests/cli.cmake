@@ -58,6 +58,10 @@ expect(2 "clvis: --devices: expected SPEC,SPEC" render ${MESH} --devices 0,,1)
 expect(2 "clvis: --device-map: needs --devices" render ${MESH} --device-map ${WORK}/map.png)
 expect(2 "--screen-tile" render ${MESH} --devices 0,0 --screen-tile 0)
 expect(0 "render" --help)
+# Every mesh format that load_mesh reads is listed.
+foreach(command render info rays compare)
+  expect(0 "OBJ, PLY, STL, glTF 2.0: .gltf, .glb" ${command} --help)
+endforeach()
 expect(0 "clvis [0-9]" --version)
 
 set(size --width 64 --height 48 --quiet)
@@ -77,7 +81,112 @@ if(WITH_IMAGE_IO)
       set(failures "${failures}\n  render --path all --image: ${file} not written")
     endif()
   endforeach()
+  # All of a run's files or none (CONVENTIONS.md "Output files"): a file that cannot be written is
+  # refused before rendering, naming its flag, and the others are not written either; so is one
+  # name for several views (without {view}), for two outputs, or for several MPI processes.
+  file(MAKE_DIRECTORY ${WORK}/none)
+  set(none ${WORK}/none)
+  expect(2 "--depth: .*/no/such/dir/z.exr.*no folder" render ${MESH} ${size} --ids ${none}/ok.tif
+         --depth /no/such/dir/z.exr)
+  expect(2 "--depth: .*/no/such/dir/z-raster.exr" render ${MESH} ${size} --path all --ids ${none}/ok.tif
+         --depth /no/such/dir/z.exr)
+  expect(2 "--visible: .*\\.txt" render ${MESH} ${size} --ids ${none}/ok.tif --visible ${none}/ids.csv)
+  expect(2 "--depth: .*also the file of --ids" render ${MESH} ${size} --ids ${none}/same.exr --depth ${none}/same.exr)
+  file(WRITE ${none}/two.json "{\"width\": 32, \"height\": 24, \"views\": [
+    {\"eye\": [0, 0.4, 3], \"target\": [0, 0.3, 0], \"fov\": 40}, {\"eye\": [3, 0, 0], \"target\": [0, 0.3, 0], \"fov\": 40}]}")
+  expect(2 "--ids: .*out.tif' would be written 2 times.*\\{view\\}" render ${MESH} --views ${none}/two.json
+         --ids ${none}/out.tif -q)
+  set(ENV{OMPI_COMM_WORLD_SIZE} 2)
+  expect(2 "--distribute: .*2 MPI processes" render ${MESH} ${size} --ids ${none}/x.tif)
+  unset(ENV{OMPI_COMM_WORLD_SIZE})
+  file(GLOB left ${none}/*)
+  list(REMOVE_ITEM left ${none}/two.json)
+  if(left)
+    set(failures "${failures}\n  runs refused or failed left files behind: ${left}")
+  endif()
+  # Written under temporary names, renamed at the end: nothing else is left in the folder.
+  expect(0 "wrote ${none}/v-0.tif.*wrote ${none}/v-1.exr" render ${MESH} --views ${none}/two.json
+         --ids ${none}/v-{view}.tif --depth ${none}/v-{view}.exr --visible ${none}/v-{view}.txt)
+  file(GLOB left RELATIVE ${none} ${none}/*)
+  list(SORT left)
+  if(NOT left STREQUAL "two.json;v-0.exr;v-0.tif;v-0.txt;v-1.exr;v-1.tif;v-1.txt")
+    set(failures "${failures}\n  render --views: files left ${left}")
+  endif()
 endif()
+# clvis rays: NumPy's default float64 rays are converted (the answers equal those of the same rays
+# as float32 records); an answer file of no known format is refused; the file written is named.
+# Bytes written by printf's octal escapes (sh): a .npy header of '<f8' (2, 8), and raw float32.
+function(octal_of_hex hex out)
+  string(REGEX MATCHALL ".." bytes "${hex}")
+  set(text "")
+  foreach(b ${bytes})
+    math(EXPR v "0x${b}")
+    math(EXPR d2 "${v} / 64")
+    math(EXPR d1 "(${v} / 8) % 8")
+    math(EXPR d0 "${v} % 8")
+    string(APPEND text "\\${d2}${d1}${d0}")
+  endforeach()
+  set(${out} "${text}" PARENT_SCOPE)
+endfunction()
+set(header "{'descr': '<f8', 'fortran_order': False, 'shape': (2, 8), }")
+string(LENGTH "${header}" n)
+math(EXPR pad "117 - ${n}") # 10 + 118 = 128 bytes before the data
+string(REPEAT " " ${pad} spaces)
+# ray (0, 0.3, 3), tmin 0, direction (0, 0, -1), tmax inf, twice: float64, then float32
+set(ray64 "0000000000000000333333333333D33F00000000000008400000000000000000")
+string(APPEND ray64 "00000000000000000000000000000000000000000000F0BF000000000000F07F")
+set(ray32 "000000009A99993E00004040000000000000000000000000000080BF0000807F")
+octal_of_hex("${ray64}${ray64}" data64)
+octal_of_hex("${ray32}${ray32}" data32)
+execute_process(COMMAND printf "\\223NUMPY\\001\\000\\166\\000${header}${spaces}\\n${data64}" OUTPUT_FILE ${WORK}/rays64.npy)
+execute_process(COMMAND printf "${data32}" OUTPUT_FILE ${WORK}/rays32.bin)
+expect(0 "wrote ${WORK}/hits64.npy" rays ${MESH} --rays ${WORK}/rays64.npy --hits ${WORK}/hits64.npy)
+expect(0 "" rays ${MESH} --rays ${WORK}/rays32.bin --hits ${WORK}/hits32.npy -q)
+execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${WORK}/hits64.npy ${WORK}/hits32.npy RESULT_VARIABLE differ)
+file(READ ${WORK}/hits32.npy hit OFFSET 132 LIMIT 4 HEX)
+if(differ OR hit STREQUAL "ffffffff")
+  set(failures "${failures}\n  rays: float64 rays do not give the float32 rays' hits (id ${hit})")
+endif()
+expect(2 "--hits: .*hits.txt.*\\.npy, \\.bin, \\.raw" rays ${MESH} --rays ${WORK}/rays32.bin --hits ${WORK}/hits.txt)
+if(EXISTS ${WORK}/hits.txt)
+  set(failures "${failures}\n  rays --hits hits.txt: written")
+endif()
+
+# -q says nothing while kernels are compiled (cold caches: PoCL's Clang prints its warnings'
+# count on standard error itself unless built with -w); --verbose prints each build log.
+file(MAKE_DIRECTORY ${WORK}/cold-clvis ${WORK}/cold-pocl)
+set(warm_clvis "$ENV{CLVIS_CACHE_DIR}")
+set(warm_pocl "$ENV{POCL_CACHE_DIR}")
+set(ENV{CLVIS_CACHE_DIR} ${WORK}/cold-clvis)
+set(ENV{POCL_CACHE_DIR} ${WORK}/cold-pocl)
+execute_process(COMMAND ${CLVIS} render ${MESH} ${size} --path ray RESULT_VARIABLE got ERROR_VARIABLE err)
+if(NOT got EQUAL 0 OR NOT err STREQUAL "")
+  set(failures "${failures}\n  render -q on cold caches: status ${got}, said: ${err}")
+endif()
+file(REMOVE_RECURSE ${WORK}/cold-clvis ${WORK}/cold-pocl)
+file(MAKE_DIRECTORY ${WORK}/cold-clvis ${WORK}/cold-pocl)
+expect(0 "clvis: built kernels/ray_trace[a-z_]*.cl for .* with '[^']*':" render ${MESH} ${size} --path ray --verbose)
+foreach(var CLVIS_CACHE_DIR POCL_CACHE_DIR) # as they were: PoCL refuses an empty POCL_CACHE_DIR
+  if(var STREQUAL "CLVIS_CACHE_DIR")
+    set(value "${warm_clvis}")
+  else()
+    set(value "${warm_pocl}")
+  endif()
+  if(value STREQUAL "")
+    unset(ENV{${var}})
+  else()
+    set(ENV{${var}} "${value}")
+  endif()
+endforeach()
+
+# Flags are checked before any file is read, naming the flag.
+expect(2 "--samples: .*1, 2, 4, 8 or 16, got 3" render ${WORK}/missing-mesh.obj --samples 3)
+expect(2 "--tile: .*power of two" render ${WORK}/missing-mesh.obj --tile 12)
+expect(2 "--leaf-size" render ${WORK}/missing-mesh.obj --leaf-size 0)
+expect(2 "--ao: needs --image" render ${WORK}/missing-mesh.obj --ao 4)
+expect(2 "--normals: attributes are resolved at one sample" render ${WORK}/missing-mesh.obj --samples 2
+       --normals ${WORK}/n.exr)
+expect(2 "--bary: for one device in one process" render ${WORK}/missing-mesh.obj --devices 0,0 --bary ${WORK}/b.exr)
 
 # A scene file: its size and its (physical) camera are honoured by render, info and compare.
 file(WRITE ${WORK}/scene.json "{\"meshes\": [{\"file\": \"${MESH}\"}], \"width\": 80, \"height\": 40,

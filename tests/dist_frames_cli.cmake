@@ -25,6 +25,25 @@ if(NOT said MATCHES "frames on ${RANKS} ranks" OR NOT said MATCHES "rank 0: [0-9
    OR NOT said MATCHES "rank ${last_rank}: [0-9.]+ ms")
   message(FATAL_ERROR "rank 0 does not report every rank's time:\n${said}")
 endif()
+# Each rank says the files it wrote (its views').
+if(NOT said MATCHES "rank 0 wrote ${WORK}/dist-0.tif" OR NOT said MATCHES "rank ${last_rank} wrote ${WORK}/dist-6.exr")
+  message(FATAL_ERROR "the ranks do not say which files they wrote:\n${said}")
+endif()
+# All or none over the ranks: a file no rank can write refuses the run before rendering, and no
+# rank leaves its files; so do several ranks without --distribute (they would share the names).
+file(MAKE_DIRECTORY ${WORK}/none)
+foreach(args "--distribute;frames;--views;${WORK}/views.json;--ids;${WORK}/none/n-{view}.tif;--depth;/no/such/dir/z-{view}.exr"
+             "--ids;${WORK}/none/x.tif")
+  execute_process(COMMAND ${MPIEXEC} --allow-run-as-root --oversubscribe -np ${RANKS} ${CLVIS} render ${MESH}
+                  --path ${PATH_NAME} ${args} RESULT_VARIABLE status ERROR_VARIABLE err OUTPUT_VARIABLE out)
+  if(status EQUAL 0 OR NOT err MATCHES "clvis: --(depth|distribute): ")
+    message(FATAL_ERROR "render ${args} on ${RANKS} ranks: status ${status}, not refused naming the flag:\n${err}")
+  endif()
+endforeach()
+file(GLOB left ${WORK}/none/*)
+if(left)
+  message(FATAL_ERROR "refused runs on ${RANKS} ranks left files: ${left}")
+endif()
 foreach(v RANGE 0 6)
   foreach(kind tif exr)
     same_pixels(${WORK}/one-${v}.${kind} ${WORK}/dist-${v}.${kind} "view ${v}, one process against ${RANKS} ranks")

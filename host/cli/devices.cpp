@@ -37,7 +37,7 @@ void add_devices_command(CLI::App& app)
         auto devices = list_devices();
         Device chosen = Device::open();
         for (const auto& d : devices) {
-            bool is_default = d.name == chosen.info().name && d.platform == chosen.info().platform;
+            bool is_default = d.index == chosen.info().index; // two alike devices share a name
             std::printf("%zu%s %s\n", d.index, is_default ? "*" : " ", d.name.c_str());
             std::printf("    platform        %s\n", d.platform.c_str());
             std::printf("    type            %s, %u compute units\n", to_string(d.type), d.compute_units);

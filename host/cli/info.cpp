@@ -81,7 +81,7 @@ void add_info_command(CLI::App& app)
     auto* cmd = app.add_subcommand("info", "Load mesh files or scene files and report what each holds.\n"
                                            "Example: clvis info scenes/stanford-bunny.obj scenes/spot.obj");
     auto files = std::make_shared<std::vector<std::string>>();
-    cmd->add_option("files", *files, "mesh files (OBJ, PLY, STL, glTF 2.0: .gltf, .glb) or scene files (.json)")->required();
+    cmd->add_option("files", *files, std::string(mesh_files_help) + " or scene files (.json)")->required();
     cmd->callback([files] {
         for (const auto& path : *files) {
             if (is_scene_file(path)) scene_file_info(path);

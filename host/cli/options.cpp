@@ -2,6 +2,8 @@
 // camera flags come from camera_fields(), so that they and scene files take the same fields.
 #include "options.hpp"
 
+#include <cstdlib>
+
 #include <algorithm>
 #include <cctype>
 #include <chrono>
@@ -109,6 +111,13 @@ SceneFile SceneInput::load(double* load_ms) const
     if (load_ms)
         *load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return out;
+}
+
+void add_verbose_flag(CLI::App& app)
+{
+    app.add_flag_callback(
+        "--verbose", [] { ::setenv("CLVIS_BUILD_LOG", "1", 1); },
+        "also print the kernels' build logs (compiler warnings) on standard error as they are built");
 }
 
 } // namespace clvis::cli

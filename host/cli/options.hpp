@@ -48,15 +48,23 @@ struct DeviceOptions {
     Device open() const;
 };
 
+/// Every mesh format load_mesh reads (by extension), as the help says it.
+constexpr const char* mesh_files_help = "mesh files (OBJ, PLY, STL, glTF 2.0: .gltf, .glb)";
+
 /// Positional mesh files (or one .json scene file), loaded in order.
 struct SceneInput {
     std::vector<std::string> files;
-    void add_to(CLI::App& app, const std::string& description = "mesh files (OBJ, PLY, STL) or one scene file (.json), in scene order");
+    void add_to(CLI::App& app, const std::string& description = std::string(mesh_files_help) +
+                                                                 " or one scene file (.json), in scene order");
     /// Loads the files; `load_ms` receives the time spent reading them.
     SceneFile load(double* load_ms = nullptr) const;
     /// The scene file's name for messages, or "" when meshes were given.
     std::string scene_file() const;
 };
+
+/// --verbose: also print each kernel program's build log (compiler warnings included) on standard
+/// error as it is built (CLVIS_BUILD_LOG=1 for the library); without it builds say nothing.
+void add_verbose_flag(CLI::App& app);
 
 /// True when `path` names a scene file (.json, any case).
 bool is_scene_file(const std::string& path);

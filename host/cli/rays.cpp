@@ -2,6 +2,7 @@
 // closest hits, occlusion flags or hit counts, as .npy or raw records by the file's extension.
 #include "commands.hpp"
 #include "options.hpp"
+#include "output_plan.hpp"
 
 #include <clvis/clvis.hpp>
 #include <clvis/ray_io.hpp>
@@ -10,6 +11,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <iostream>
 
 namespace clvis::cli {
@@ -24,13 +26,38 @@ struct RaysArgs {
     bool brute = false, json = false, quiet = false;
 };
 
+/// The rays of `path`: read_rays' files, and also NumPy's default float64 as an (N, 8) .npy,
+/// converted to float32 as the Python module's cast_rays does.
+std::vector<RayRecord> read_rays_converted(const std::string& path)
+{
+    if (extension_of(path) != "npy") return read_rays(path);
+    NpyArray a = read_npy(path);
+    if (a.descr != "<f8") return read_rays(path); // float32, or refused there naming the dtype
+    if (a.shape.size() != 2 || a.shape[1] != 8 || a.data.size() != a.shape[0] * 8 * sizeof(double))
+        throw Error(Error::Kind::Io, path + ": rays must be an (N, 8) array of ox,oy,oz,tmin,dx,dy,dz,tmax");
+    std::vector<RayRecord> rays(a.shape[0]);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        double d[8];
+        std::memcpy(d, a.data.data() + i * sizeof d, sizeof d);
+        rays[i] = RayRecord{float(d[0]), float(d[1]), float(d[2]), float(d[3]),
+                            float(d[4]), float(d[5]), float(d[6]), float(d[7])};
+    }
+    return rays;
+}
+
 void rays_command(const RaysArgs& a)
 {
+    if (int ranks = mpi_world_size_from_environment(); ranks > 1)
+        throw Error(Error::Kind::InvalidArgument, "--hits: clvis rays runs as " + std::to_string(ranks) +
+                                                      " MPI processes (mpirun), which would all write '" + a.hits +
+                                                      "'; run one process");
+    OutputPlan plan;
+    plan.add("--hits", a.hits, OutputKind::RayAnswers);
     double load_ms = 0;
     SceneFile file = a.scene.load(&load_ms);
     if (file.scene.empty()) throw Error(Error::Kind::InvalidArgument, "the scene holds no triangles");
     RayQueryKind kind = ray_query_kind_from_string(a.query.c_str());
-    std::vector<RayRecord> rays = read_rays(a.rays);
+    std::vector<RayRecord> rays = read_rays_converted(a.rays);
     Device device = a.device.open();
     Renderer renderer(device, file.scene);
     RayQueryOptions options;
@@ -43,16 +70,17 @@ void rays_command(const RaysArgs& a)
     if (kind == RayQueryKind::Closest) {
         std::vector<HitRecord> hits(rays.size());
         stats = query.closest({rays.data(), rays.size()}, hits.data());
-        write_hits(a.hits, hits);
+        write_hits(plan.temporary(a.hits), hits);
     } else if (kind == RayQueryKind::Any) {
         std::vector<std::uint8_t> flags(rays.size());
         stats = query.occluded({rays.data(), rays.size()}, flags.data());
-        write_flags(a.hits, flags);
+        write_flags(plan.temporary(a.hits), flags);
     } else {
         std::vector<std::uint32_t> counts(rays.size());
         stats = query.count({rays.data(), rays.size()}, counts.data());
-        write_counts(a.hits, counts);
+        write_counts(plan.temporary(a.hits), counts);
     }
+    std::vector<std::string> written = plan.commit();
     double mrays = stats.device_ms > 0 ? double(stats.rays) / (stats.device_ms * 1e3) : 0;
     if (!a.quiet) {
         char buf[256];
@@ -61,6 +89,7 @@ void rays_command(const RaysArgs& a)
                       stats.rays, stats.invalid, file.scene.triangle_count(), device.info().name.c_str(),
                       to_string(kind), stats.device_ms, mrays, stats.wall_ms, stats.batches);
         std::cerr << buf << "\n";
+        for (const std::string& f : written) std::cerr << "clvis: wrote " << f << "\n";
     }
     if (a.json) {
         nlohmann::json j{{"query", to_string(kind)},   {"rays", stats.rays},         {"invalid", stats.invalid},
@@ -78,19 +107,21 @@ void add_rays_command(CLI::App& app)
     auto args = std::make_shared<RaysArgs>();
     auto* cmd = app.add_subcommand(
         "rays", "Answer a ray query for a file of rays: closest hits, occlusion or hit counts.\n"
-                "Rays: .npy (N, 8) float32 ox,oy,oz,tmin,dx,dy,dz,tmax, or raw 32-byte records.\n"
-                "Hits: .npy (structured t,id,u,v | uint8 | uint32) or raw records by extension.\n"
+                "Rays: .npy (N, 8) float32 (float64 is converted) ox,oy,oz,tmin,dx,dy,dz,tmax, or raw 32-byte "
+                "records.\n"
+                "Hits: .npy (structured t,id,u,v | uint8 | uint32), or raw records as .bin or .raw.\n"
                 "Example: clvis rays scenes/spot.obj --rays rays.npy --hits hits.npy --query closest");
     args->scene.add_to(*cmd);
     args->device.add_to(*cmd);
     cmd->add_option("--rays", args->rays, "the rays (.npy or raw records)")->required();
-    cmd->add_option("--hits", args->hits, "where the answers go (.npy or raw records)")->required();
+    cmd->add_option("--hits", args->hits, "where the answers go (.npy, or raw records as .bin or .raw)")->required();
     cmd->add_option("--query", args->query, "closest, any (occlusion) or count")
         ->check(CLI::IsMember({"closest", "any", "count"}));
     cmd->add_option("--batch", args->batch, "rays per kernel launch at most")->check(CLI::Range(1, 1 << 28));
     cmd->add_flag("--brute", args->brute, "test every triangle instead of walking the BVH");
     cmd->add_flag("--json", args->json, "print one JSON object with the counts and timings on standard output");
     cmd->add_flag("--quiet,-q", args->quiet, "say nothing on standard error");
+    add_verbose_flag(*cmd);
     cmd->callback([args] { rays_command(*args); });
 }
 

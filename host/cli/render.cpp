@@ -2,6 +2,7 @@
 // of CONVENTIONS.md's --json. With --path all both paths run and the referee compares them.
 #include "commands.hpp"
 #include "options.hpp"
+#include "output_plan.hpp"
 #include "render_ao.hpp"
 #include "render_report.hpp"
 #include "render_spread.hpp"
@@ -12,7 +13,6 @@
 #include <clvis/views_file.hpp>
 
 #include <algorithm>
-#include <cctype>
 #include <cstdio>
 #include <functional>
 #include <iostream>
@@ -41,16 +41,6 @@ struct RenderArgs {
     SpreadArgs spread; ///< --devices, --distribute: several devices or MPI ranks
 };
 
-/// "out.png" -> "out-ray.png" when several paths write files.
-std::string with_suffix(const std::string& file, const std::string& suffix, bool several)
-{
-    if (!several || file.empty()) return file;
-    auto dot = file.find_last_of('.');
-    auto slash = file.find_last_of('/');
-    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return file + "-" + suffix;
-    return file.substr(0, dot) + "-" + suffix + file.substr(dot);
-}
-
 #if !CLVIS_WITH_IMAGE_IO
 [[noreturn]] void no_image_io(const std::string& flag)
 {
@@ -58,10 +48,33 @@ std::string with_suffix(const std::string& file, const std::string& suffix, bool
 }
 #endif
 
-/// Names an output file for one path's results.
-std::function<std::string(const std::string&)> with_suffix_of(const std::string& name, bool several)
+/// Each output flag of render, its file ("" when not given) and its kind.
+std::vector<std::tuple<std::string, std::string, OutputKind>> output_flags(const RenderArgs& a)
 {
-    return [name, several](const std::string& file) { return with_suffix(file, name, several); };
+    return {{"--ids", a.ids, OutputKind::Ids},           {"--depth", a.depth, OutputKind::Depth},
+            {"--image", a.image, OutputKind::Image},     {"--bary", a.bary, OutputKind::Floats},
+            {"--normals", a.normals, OutputKind::Floats}, {"--position", a.position, OutputKind::Floats},
+            {"--visible", a.visible, OutputKind::Text}};
+}
+
+/// The file a flag's name gives for one path (suffixed when several paths write) and one view.
+std::string output_name(const std::string& file, Path path, bool several, int view, int last)
+{
+    return view_file_name(several ? with_suffix(file, to_string(path)) : file, view, last);
+}
+
+/// Names every file of the run in `plan` (each checked there): every flag's file for each of
+/// `paths` and each of `views` views, plus the --device-map of --devices.
+void plan_outputs(OutputPlan& plan, const RenderArgs& a, const std::vector<Path>& paths, int views)
+{
+    const auto flags = output_flags(a);
+    for (const auto& [flag, file, kind] : flags)
+        OutputPlan::need_view_key(flag, file, views, "--views FILE holds " + std::to_string(views) + " views");
+    for (Path p : paths)
+        for (int v = 0; v < views; ++v)
+            for (const auto& [flag, file, kind] : flags)
+                if (!file.empty()) plan.add(flag, output_name(file, p, paths.size() > 1, v, views - 1), kind);
+    if (!a.spread.device_map.empty()) plan.add("--device-map", a.spread.device_map, OutputKind::Image);
 }
 
 /// --bary, --normals, --position: resolved on the device only when asked, then written as EXR.
@@ -110,27 +123,21 @@ void write_visible(Renderer& renderer, const VisibilityBuffer& vis, const std::s
 using NameFn = std::function<std::string(const std::string&)>;
 
 /// Every file one visibility buffer gives: ids, depth, image, attributes and the visible set,
-/// each named by `say` once written. `host` receives the buffer read back when ids or depth are
-/// written (or when `need_host`).
+/// each written under the temporary name `name_of` gives for the flag's file. `host` receives
+/// the buffer read back when ids or depth are written (or when `need_host`).
 void write_outputs(Renderer& renderer, const VisibilityBuffer& vis, const Camera& camera, const RenderArgs& a,
-                   const NameFn& name_of, std::uint32_t triangles, HostVisibility& host, bool need_host,
-                   const std::function<void(const std::string&)>& say)
+                   const NameFn& name_of, std::uint32_t triangles, HostVisibility& host, bool need_host)
 {
-    std::vector<std::string> written;
-    NameFn file_name = [&](const std::string& f) {
-        written.push_back(name_of(f));
-        return written.back();
-    };
     if (need_host || !a.ids.empty() || !a.depth.empty()) vis.read(host);
-    write_attributes(renderer, vis, camera, a, file_name);
-    write_visible(renderer, vis, a.visible.empty() ? a.visible : file_name(a.visible), triangles);
+    write_attributes(renderer, vis, camera, a, name_of);
+    write_visible(renderer, vis, a.visible.empty() ? a.visible : name_of(a.visible), triangles);
 #if CLVIS_WITH_IMAGE_IO
-    if (!a.ids.empty()) write_ids(file_name(a.ids), host);
-    if (!a.depth.empty()) write_depth(file_name(a.depth), host);
+    if (!a.ids.empty()) write_ids(name_of(a.ids), host);
+    if (!a.depth.empty()) write_depth(name_of(a.depth), host);
     if (!a.image.empty()) {
         ShadeOptions so;
         so.mode = a.shade;
-        write_image(file_name(a.image),
+        write_image(name_of(a.image),
                     a.ao > 0 ? ao_image(renderer, vis, camera, a.ao, a.quiet) : shade(renderer, vis, camera, so));
     }
 #else
@@ -138,43 +145,12 @@ void write_outputs(Renderer& renderer, const VisibilityBuffer& vis, const Camera
     if (!a.depth.empty()) no_image_io("--depth");
     if (!a.image.empty()) no_image_io("--image");
 #endif
-    for (const std::string& f : written) say("clvis: wrote " + f);
-}
-
-/// Refuses output files of a kind that cannot be written, before anything is rendered.
-void check_outputs(const RenderArgs& a)
-{
-#if CLVIS_WITH_IMAGE_IO
-    auto extension = [](const std::string& file) {
-        auto dot = file.find_last_of('.');
-        auto slash = file.find_last_of('/');
-        if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return std::string();
-        std::string e = file.substr(dot + 1);
-        std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-        return e;
-    };
-    auto join = [](const std::vector<std::string>& v) {
-        std::string s;
-        for (const auto& e : v) s += (s.empty() ? "." : ", .") + e;
-        return s;
-    };
-    for (auto [flag, file, allowed] : {std::tuple{"--ids", a.ids, id_extensions()},
-                                       {"--depth", a.depth, depth_extensions()},
-                                       {"--image", a.image, image_extensions()}}) {
-        std::string ext = extension(file);
-        if (!file.empty() && std::find(allowed.begin(), allowed.end(), ext) == allowed.end())
-            throw Error(Error::Kind::InvalidArgument, std::string(flag) + ": cannot write '" + file +
-                                                          "': the formats written are " + join(allowed));
-    }
-#else
-    (void)a;
-#endif
 }
 
 /// Renders one camera (or, with `views`, every view as one batch) `repeat` times after a warm-up.
 PathResult run_path(Renderer& renderer, const std::vector<Camera>& cameras, const RenderArgs& a, int width,
                     int height, Path path, bool several, bool need_host, std::uint32_t triangles,
-                    const std::function<void(const std::string&)>& say)
+                    const OutputPlan& plan)
 {
     PathResult r;
     r.path = path;
@@ -209,41 +185,84 @@ PathResult run_path(Renderer& renderer, const std::vector<Camera>& cameras, cons
             r.fastest = t;
         }
     }
-    std::string name = to_string(path);
     if (!batch) {
-        write_outputs(renderer, vis, cameras[0], a, with_suffix_of(name, several), triangles, r.vis, need_host, say);
+        write_outputs(renderer, vis, cameras[0], a,
+                      [&](const std::string& f) { return plan.temporary(output_name(f, path, several, 0, 0)); },
+                      triangles, r.vis, need_host);
         return r;
     }
     HostVisibility host;
     int last = views.views() - 1;
     for (int v = 0; v <= last; ++v)
         write_outputs(renderer, views.view(v), cameras[std::size_t(v)], a,
-                      [&](const std::string& f) { return view_file_name(with_suffix(f, name, several), v, last); },
-                      triangles, host, false, say);
+                      [&](const std::string& f) { return plan.temporary(output_name(f, path, several, v, last)); },
+                      triangles, host, false);
     return r;
+}
+
+/// Refuses, before any file is read, what the flags cannot do together (Error(InvalidArgument)
+/// naming the flag), and returns the paths that run.
+std::vector<Path> check_flags(const RenderArgs& a)
+{
+    auto refuse = [](const std::string& why) { throw Error(Error::Kind::InvalidArgument, why); };
+    const int ranks = mpi_world_size_from_environment();
+#if CLVIS_WITH_MPI
+    const std::string options = "give --distribute frames, screen or scene, or run one process";
+#else
+    const std::string options = "this clvis was built without MPI (no --distribute): run one process";
+#endif
+    if (ranks > 1 && a.spread.distribute.empty())
+        refuse("--distribute: clvis render runs as " + std::to_string(ranks) +
+               " MPI processes (mpirun) without it, which would all write the same files; " + options);
+    if (a.ao > 0 && a.image.empty()) refuse("--ao: needs --image FILE to write");
+    if (a.options.samples != 1 && (a.ao > 0 || a.spread.any() || !a.views.empty()))
+        refuse("--samples: --ao, --views, --devices, --distribute draw 1 per pixel");
+    if (a.options.samples != 1)
+        for (const auto& [flag, file, kind] : output_flags(a))
+            if (!file.empty() && kind == OutputKind::Floats)
+                refuse(flag + ": attributes are resolved at one sample per pixel; --samples " +
+                       std::to_string(a.options.samples) + " is for --ids, --depth, --image and --visible");
+    if (a.path == "all" && !a.views.empty()) refuse("--views: renders one path (--path raster, ray or brute), not all");
+    if (a.spread.any()) {
+        for (const auto& [flag, file, kind] : output_flags(a))
+            if (!file.empty() && kind != OutputKind::Ids && kind != OutputKind::Depth && flag != "--image")
+                refuse(flag + ": for one device in one process; --devices and --distribute write --ids and --depth");
+        SpreadRequest request;
+        request.spread = a.spread;
+        request.path = a.path;
+        request.views = a.views;
+        request.image = a.image;
+        request.device_spec = a.device.spec;
+        return {check_spread(request)};
+    }
+    if (a.path == "all") return {Path::Raster, Path::Ray};
+    return {path_from_string(a.path)};
 }
 
 void render_command(RenderArgs a)
 {
-    check_outputs(a);
+    std::vector<Path> paths = check_flags(a);
+    std::vector<Camera> cameras;
+    ViewsFile vf;
+    if (!a.views.empty()) {
+        vf = load_views_file(a.views);
+        cameras = vf.views;
+    }
+    // --distribute: every rank checks every name here; render_dist.cpp plans its own views' files.
+    OutputPlan plan;
+    plan_outputs(plan, a, paths, std::max(int(cameras.size()), 1));
     double load_ms = 0;
     SceneFile file = a.scene.load(&load_ms);
     View view = resolve_view(a.camera, file, a.scene.scene_file());
-    std::vector<Camera> cameras;
     if (!a.views.empty()) {
-        ViewsFile vf = load_views_file(a.views);
         view.width = vf.width;
         view.height = vf.height;
-        cameras = vf.views;
     }
     a.width = view.width;
     a.height = view.height;
     const Camera camera = cameras.empty() ? view.camera : cameras[0];
     if (cameras.empty()) cameras.push_back(camera);
     if (file.scene.empty()) throw Error(Error::Kind::InvalidArgument, "the scene holds no triangles");
-    if (a.ao > 0 && a.image.empty()) throw Error(Error::Kind::InvalidArgument, "--ao: needs --image FILE to write");
-    if (a.options.samples != 1 && (a.ao > 0 || a.spread.any() || !a.views.empty()))
-        throw Error(Error::Kind::InvalidArgument, "--samples: --ao, --views, --devices, --distribute draw 1 per pixel");
     if (a.spread.any()) {
         SpreadRequest request;
         request.spread = a.spread;
@@ -262,13 +281,9 @@ void render_command(RenderArgs a)
         request.repeat = a.repeat;
         request.json = a.json;
         request.quiet = a.quiet;
+        request.plan = &plan;
         return render_spread(request);
     }
-    std::vector<Path> paths;
-    if (a.path == "all" && !a.views.empty())
-        throw Error(Error::Kind::InvalidArgument, "--views: renders one path (--path raster, ray or brute), not all");
-    if (a.path == "all") paths = {Path::Raster, Path::Ray};
-    else paths = {path_from_string(a.path)};
     bool several = paths.size() > 1;
 
     auto t_open = std::chrono::steady_clock::now();
@@ -288,7 +303,7 @@ void render_command(RenderArgs a)
     std::vector<PathResult> results;
     for (Path p : paths) {
         results.push_back(run_path(renderer, cameras, a, a.width, a.height, p, several, several,
-                                   std::uint32_t(file.scene.triangle_count()), say));
+                                   std::uint32_t(file.scene.triangle_count()), plan));
         say(path_line(results.back()));
     }
     if (a.timings) say(first_frame_line(open_ms, renderer_ms, results));
@@ -297,6 +312,7 @@ void render_command(RenderArgs a)
         verdict = Referee(file.scene, camera, a.width, a.height, a.options).compare(results[0].vis, results[1].vis);
         for (const std::string& line : compare_lines(verdict)) say(line);
     }
+    for (const std::string& f : plan.commit()) say("clvis: wrote " + f);
     if (a.json) {
         RenderJson run;
         run.triangles = file.scene.triangle_count();
@@ -317,6 +333,30 @@ void render_command(RenderArgs a)
         std::cerr << "clvis: the referee rejected ids or depths of a path (see above)\n";
         throw CLI::RuntimeError(exit_rejected); // main returns the status
     }
+}
+
+/// A CLI11 check by one of the library's own (`check` throws Error naming the value), so that a
+/// bad value is refused while the flags are parsed, naming the flag, before any file is read.
+CLI::Validator library_check(std::function<void(int)> check, const std::string& what)
+{
+    return CLI::Validator(
+        [check](std::string& text) {
+            int value = 0;
+            try {
+                std::size_t used = 0;
+                value = std::stoi(text, &used);
+                if (used != text.size()) return std::string(); // not a number: CLI11's conversion says so
+            } catch (const std::exception&) {
+                return std::string();
+            }
+            try {
+                check(value);
+            } catch (const Error& e) {
+                return std::string(e.what());
+            }
+            return std::string();
+        },
+        what);
 }
 
 } // namespace
@@ -351,9 +391,17 @@ void add_render_command(CLI::App& app)
         ->check(CLI::Range(0, 1000000));
     cmd->add_option("--samples", args->options.samples,
                     "samples per pixel: 1, 2, 4, 8 or 16 at the standard positions (CONVENTIONS.md); the id and "
-                    "depth files get channels id0.. and Z0.., the image is their mean");
+                    "depth files get channels id0.. and Z0.., the image is their mean")
+        ->check(library_check([](int n) { samples_log2(n); }, "1, 2, 4, 8 or 16"));
     RenderOptions& o = args->options;
-    cmd->add_option("--tile", o.tile_size, "raster tile size in pixels (power of two; 0: default)");
+    cmd->add_option("--tile", o.tile_size, "raster tile size in pixels (power of two; 0: default)")
+        ->check(library_check(
+            [](int n) {
+                if (n != 0 && (n < 4 || n > 256 || (n & (n - 1))))
+                    throw Error(Error::Kind::InvalidArgument, "must be a power of two in [4, 256] (or 0 for the "
+                                                              "default), got " + std::to_string(n));
+            },
+            "a power of two in [4, 256], or 0"));
     add_choice(*cmd, "--cull", o.cull, "face culling: none, back or front");
     add_choice(*cmd, "--raster-atomics", o.raster_atomics,
                "raster depth test: on (64-bit atomics), off (tile ownership, no atomics) or auto (on where "
@@ -363,7 +411,7 @@ void add_render_command(CLI::App& app)
     add_choice(*cmd, "--ray-mapping", o.ray_mapping,
                "ray path: packet (a work-item per 4x4 rays, CPUs), single (a work-item per ray, GPUs) or auto "
                "(measured per device, cached); same keys");
-    cmd->add_option("--leaf-size", o.bvh.max_leaf_size, "BVH: triangles per leaf at most");
+    cmd->add_option("--leaf-size", o.bvh.max_leaf_size, "BVH: triangles per leaf at most")->check(CLI::Range(1, 64));
     args->spread.add_to(*cmd);
     add_choice(*cmd, "--coverage", o.coverage,
                "ray and brute paths: watertight (the ray test, default) or raster-rule (the raster path's "
@@ -373,6 +421,7 @@ void add_render_command(CLI::App& app)
                   "what a one-off render pays before its first frame: device open, renderer (upload), prepare "
                   "(program build; BVH for ray) and the first frame against the next (with --json: first_frame)");
     cmd->add_flag("--quiet,-q", args->quiet, "say nothing on standard error");
+    add_verbose_flag(*cmd);
     cmd->callback([args] { render_command(*args); });
 }
 

@@ -4,6 +4,7 @@
 // and the composite's.
 #include "render_dist.hpp"
 #include "options.hpp"
+#include "output_plan.hpp"
 
 #include "bench_stats.hpp"
 
@@ -53,22 +54,53 @@ RankWork prepare(const SpreadRequest& r, Path path, const Device& device, int ra
     return w;
 }
 
-void write_buffers(const SpreadRequest& r, const std::vector<std::uint64_t>& keys, int view, int last)
+/// This rank's files: its views' (frames) or, on rank 0, the frame's (screen, scene).
+void plan_rank_files(OutputPlan& plan, const SpreadRequest& r, int rank, int ranks)
+{
+    dist::Share share{0, 0};
+    if (r.spread.distribute == "frames") share = dist::share_of(r.cameras.size(), rank, ranks);
+    else if (rank == 0) share = dist::share_of(1, 0, 1);
+    int last = int(r.cameras.size()) - 1;
+    for (std::size_t v = share.first; v < share.first + share.size(); ++v) {
+        if (!r.ids.empty()) plan.add("--ids", view_file_name(r.ids, int(v), last), OutputKind::Ids);
+        if (!r.depth.empty()) plan.add("--depth", view_file_name(r.depth, int(v), last), OutputKind::Depth);
+    }
+}
+
+/// Writes one view's files under the plan's temporary names.
+void write_buffers(const SpreadRequest& r, const OutputPlan& plan, const std::vector<std::uint64_t>& keys, int view,
+                   int last)
 {
     if (r.ids.empty() && r.depth.empty()) return;
 #if CLVIS_WITH_IMAGE_IO
     HostVisibility vis = split_keys(keys.data(), r.width, r.height);
-    if (!r.ids.empty()) write_ids(view_file_name(r.ids, view, last), vis);
-    if (!r.depth.empty()) write_depth(view_file_name(r.depth, view, last), vis);
+    if (!r.ids.empty()) write_ids(plan.temporary(view_file_name(r.ids, view, last)), vis);
+    if (!r.depth.empty()) write_depth(plan.temporary(view_file_name(r.depth, view, last)), vis);
 #else
-    (void)keys, (void)view, (void)last;
+    (void)plan, (void)keys, (void)view, (void)last;
     throw Error(Error::Kind::InvalidArgument, "--ids/--depth: this clvis was built without OpenImageIO");
 #endif
 }
 
-/// One distributed frame; with `write`, frames mode writes this rank's views' files (read back
+/// Where a rank's files go and what went wrong writing them: an error is kept, not thrown, so
+/// that every rank still reaches the frame's collectives and then the vote on the files.
+struct RankFiles {
+    OutputPlan plan;
+    std::string error; ///< the first write error on this rank
+    template <class F>
+    void write(F&& f)
+    {
+        try {
+            f();
+        } catch (const std::exception& e) {
+            if (error.empty()) error = e.what();
+        }
+    }
+};
+
+/// One distributed frame; with `files`, frames mode writes this rank's views' files (read back
 /// in every frame, so that each frame's rank times hold the same work).
-DistFrame one_frame(const SpreadRequest& r, Path path, RankWork& w, bool write)
+DistFrame one_frame(const SpreadRequest& r, Path path, RankWork& w, RankFiles* files)
 {
     DistFrame f;
     MPI_Barrier(MPI_COMM_WORLD);
@@ -80,7 +112,7 @@ DistFrame one_frame(const SpreadRequest& r, Path path, RankWork& w, bool write)
         dist::render_frames(MPI_COMM_WORLD, *w.renderer, r.cameras, r.width, r.height, path,
                             [&](int view, const VisibilityBuffer& vis) {
                                 vis.read_keys(keys);
-                                if (write) write_buffers(r, keys, view, last);
+                                if (files) files->write([&] { write_buffers(r, files->plan, keys, view, last); });
                             },
                             &f.timing);
     } else if (r.spread.distribute == "scene") {
@@ -127,23 +159,40 @@ void report(const SpreadRequest& r, Path path, const std::string& device, std::s
     std::cout << j.dump(2) << "\n";
 }
 
+/// All or none, over every rank: each rank writes its own files (frames: its views; screen and
+/// scene: rank 0 the frame's) under temporary names; then the ranks vote (MPI_Allreduce), and
+/// every rank renames its files only when no rank failed to write, else removes them. A rank that
+/// fails while rendering aborts the job (MPI_Abort): it removes its own temporaries as it unwinds,
+/// and since files are written only in the last frame, after the same work succeeded in the
+/// warm-up (with --repeat), the others have rarely written any by then.
 void run(const SpreadRequest& r, Path path)
 {
     int rank = 0, ranks = 1;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+    RankFiles files;
+    plan_rank_files(files.plan, r, rank, ranks);
     std::size_t triangles = r.file->scene.triangle_count();
     DeviceOptions device_options;
     device_options.spec = r.device_spec;
     Device device = device_options.open();
     RankWork w = prepare(r, path, device, rank, ranks);
-    if (r.repeat > 0) one_frame(r, path, w, false); // warm-up: first launches compile
+    if (r.repeat > 0) one_frame(r, path, w, nullptr); // warm-up: first launches compile
     std::vector<DistFrame> frames;
     int count = std::max(r.repeat, 1);
-    for (int i = 0; i < count; ++i) frames.push_back(one_frame(r, path, w, i == count - 1));
-    if (rank != 0) return;
-    if (r.spread.distribute != "frames") write_buffers(r, frames.back().keys, 0, 0);
-    report(r, path, device.info().name, triangles, ranks, frames);
+    for (int i = 0; i < count; ++i) frames.push_back(one_frame(r, path, w, i == count - 1 ? &files : nullptr));
+    if (rank == 0 && r.spread.distribute != "frames")
+        files.write([&] { write_buffers(r, files.plan, frames.back().keys, 0, 0); });
+    int failed = files.error.empty() ? 0 : 1, any_failed = 0;
+    MPI_Allreduce(&failed, &any_failed, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    if (any_failed) {
+        files.plan.discard();
+        throw Error(Error::Kind::Io, (failed ? files.error : "another rank could not write its files") +
+                                         "; no rank keeps its files");
+    }
+    for (const std::string& f : files.plan.commit())
+        if (!r.quiet) std::fprintf(stderr, "clvis: rank %d wrote %s\n", rank, f.c_str());
+    if (rank == 0) report(r, path, device.info().name, triangles, ranks, frames);
 }
 
 } // namespace

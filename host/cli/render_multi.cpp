@@ -6,6 +6,7 @@
 #include "bench_stats.hpp"
 
 #include <clvis/multi_device.hpp>
+#include <clvis/views_file.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -52,18 +53,19 @@ Image device_map_image(const MultiDeviceFrame& f)
 }
 #endif
 
+/// Writes the frame's files through the run's plan (temporaries, then renamed together).
 void write_files(const SpreadRequest& r, const MultiDeviceFrame& f)
 {
     const std::string& device_map = r.spread.device_map;
     if (r.ids.empty() && r.depth.empty() && device_map.empty()) return;
 #if CLVIS_WITH_IMAGE_IO
     HostVisibility vis = split_keys(f.keys.data(), f.width, f.height);
-    if (!r.ids.empty()) write_ids(r.ids, vis);
-    if (!r.depth.empty()) write_depth(r.depth, vis);
-    if (!device_map.empty()) write_image(device_map, device_map_image(f));
-    if (r.quiet) return;
-    for (const std::string* file : {&r.ids, &r.depth, &device_map})
-        if (!file->empty()) std::cerr << "clvis: wrote " << *file << "\n";
+    // One view: "{view}" in a name is 0, as render.cpp planned it.
+    if (!r.ids.empty()) write_ids(r.plan->temporary(view_file_name(r.ids, 0, 0)), vis);
+    if (!r.depth.empty()) write_depth(r.plan->temporary(view_file_name(r.depth, 0, 0)), vis);
+    if (!device_map.empty()) write_image(r.plan->temporary(device_map), device_map_image(f));
+    for (const std::string& file : r.plan->commit())
+        if (!r.quiet) std::cerr << "clvis: wrote " << file << "\n";
 #else
     (void)f;
     throw Error(Error::Kind::InvalidArgument, "--ids/--depth/--device-map: this clvis was built without OpenImageIO");

@@ -22,7 +22,7 @@ void SpreadArgs::add_to(CLI::App& cmd)
     cmd.add_option("--device-map", device_map, "with --devices: an image of which device drew each tile (.png, ...)");
 }
 
-void render_spread(const SpreadRequest& r)
+Path check_spread(const SpreadRequest& r)
 {
     const SpreadArgs& s = r.spread;
     auto refuse = [](const std::string& why) { throw Error(Error::Kind::InvalidArgument, why); };
@@ -35,12 +35,18 @@ void render_spread(const SpreadRequest& r)
     if (!s.devices.empty()) {
         if (!r.views.empty() || !s.distribute.empty() || !r.device_spec.empty())
             refuse("--devices renders one camera; --views, --distribute and --device are not for it");
-        render_multi_device(r, path);
-        return;
+        return path;
     }
-#if CLVIS_WITH_MPI
     if ((s.distribute == "frames") != !r.views.empty())
         refuse("--distribute frames splits the views of --views FILE; screen and scene share one camera's frame");
+    return path;
+}
+
+void render_spread(const SpreadRequest& r)
+{
+    Path path = check_spread(r);
+    if (!r.spread.devices.empty()) return render_multi_device(r, path);
+#if CLVIS_WITH_MPI
     render_distributed(r, path);
 #endif
 }

@@ -5,6 +5,8 @@
 
 #include <clvis/clvis.hpp>
 
+#include "output_plan.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <string>
@@ -33,7 +35,14 @@ struct SpreadRequest {
     std::string ids, depth; ///< --distribute frames: "{view}" in a name is the view's index
     int repeat = 0;
     bool json = false, quiet = false;
+    /// The run's files, named and checked before rendering (--devices writes through it;
+    /// --distribute plans each rank's own files again).
+    OutputPlan* plan = nullptr;
 };
+
+/// Refuses (Error(InvalidArgument), the flag named) what --devices or --distribute cannot do
+/// from the flags alone: --path all, --image, and the flags of the other. Returns the path.
+Path check_spread(const SpreadRequest& request);
 
 /// Renders on several devices or ranks as the flags say, after refusing (Error(InvalidArgument),
 /// the flag named) what they cannot do: --path all, --image, and the flags of the other.

@@ -11,6 +11,7 @@
 #include <cctype>
 #include <cstdlib>
 #include <functional>
+#include <iostream>
 #include <map>
 #include <mutex>
 #include <sstream>
@@ -241,6 +242,16 @@ bool exact_float_requested()
     throw Error(Error::Kind::InvalidArgument, std::string("CLVIS_EXACT_FLOAT must be 0 or 1, got '") + v + "'");
 }
 
+/// CLVIS_BUILD_LOG=1 (clvis --verbose): each program built from source prints its build log,
+/// compiler warnings included, on standard error. Otherwise programs are built with -w: PoCL's
+/// Clang prints its diagnostics' count ("11 warnings generated.") on the process's standard error
+/// itself, which -q and every caller of the library would otherwise get.
+bool build_log_requested()
+{
+    const char* v = std::getenv("CLVIS_BUILD_LOG");
+    return v && *v && std::string(v) != "0";
+}
+
 std::string build_log(const cl::Program& program)
 {
     std::string log;
@@ -412,11 +423,17 @@ bool Device::Impl::cpu_hints() const
 
 cl::Program Device::Impl::build_source(const std::string& name, const std::string& source, const std::string& extra)
 {
-    std::string options = build_options(extra);
+    const bool verbose = build_log_requested();
+    std::string options = build_options(extra) + (verbose ? "" : " -w");
     cl::Program program;
     try {
         program = cl::Program(context, source);
         program.build({device}, options.c_str());
+        if (verbose) {
+            std::string log = build_log(program);
+            std::cerr << "clvis: built " << name << " for " << info.name << " with '" << options << "'"
+                      << (log.find_first_not_of(" \n") == std::string::npos ? ": no messages\n" : ":\n" + log);
+        }
     } catch (const cl::BuildError& e) {
         std::string log;
         for (auto& [dev, text] : e.getBuildLog()) log += text;
