@@ -35,9 +35,11 @@ static CLVIS_NOINLINE packet_edges packet_exact_edges(packet_edges r, lanes_i ze
 }
 
 /* clvis_ray_edges_of on every lane: the shear, the edge functions (with the exact recompute on
-   the lanes where one rounded to zero: one OR of the lanes decides), det and tz. */
-static packet_edges packet_edges_of(const packet* p, lanes_f akx, lanes_f aky, lanes_f akz, lanes_f bkx, lanes_f bky,
-                                    lanes_f bkz, lanes_f ckx, lanes_f cky, lanes_f ckz)
+   the lanes where one rounded to zero: one OR of the lanes decides), det and tz. The result goes
+   out by pointer: inlined at its one call, a returned struct (sret) emits an intrinsic that
+   Oclgrind 21.10 cannot run (clvis_project_triangle, shared/ray.h). */
+static void packet_edges_of(const packet* p, lanes_f akx, lanes_f aky, lanes_f akz, lanes_f bkx, lanes_f bky,
+                            lanes_f bkz, lanes_f ckx, lanes_f cky, lanes_f ckz, packet_edges* out)
 {
     lanes_f ax = akx - p->sx * akz;
     lanes_f ay = aky - p->sy * akz;
@@ -53,7 +55,7 @@ static packet_edges packet_edges_of(const packet* p, lanes_f akx, lanes_f aky, l
     if (or_lanes(zero)) r = packet_exact_edges(r, zero, ax, ay, bx, by, cx, cy);
     r.det = r.u + r.v + r.w;
     r.tz = r.u * (p->sz * akz) + r.v * (p->sz * bkz) + r.w * (p->sz * ckz);
-    return r;
+    *out = r;
 }
 
 /* Lanes where the edge functions do not take both signs. (Masks come only from comparisons, never
@@ -172,7 +174,8 @@ static void packet_test_triangle(const packet* p, const float* vert, uint tri_id
         }
         trusted = packet_trusted(akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz);
     }
-    packet_edges r = packet_edges_of(p, akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz);
+    packet_edges r;
+    packet_edges_of(p, akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz, &r);
     /* clvis_project_triangle's wide retest: where the float test cannot be trusted, or huge
        finite coordinates overflowed */
     lanes_i wide = (trusted == 0) | not_finite(r.det) | not_finite(r.tz);
