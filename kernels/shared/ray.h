@@ -100,17 +100,48 @@ static inline float clvis_max_abs3(clvis_vec3 p)
     return m > clvis_absf(p.z) ? m : clvis_absf(p.z);
 }
 
+/* How far the float test's rounding may move what it sees, relative to the distance: every
+   coordinate of a vertex minus the origin rounds by up to 2^-24 of it, and the shear adds the
+   same again, so an edge near which the ray passes at distance d moves by about 2^-22 M / d
+   radians as seen from the origin, M the largest magnitude of the three vertices' coordinates
+   minus the origin's; the hit distance, a sum of products of that size, moves as much relative
+   to it. Where d is at least M / CLVIS_RAY_RANGE (2^-17 radians at most) the float test is as
+   good as the 2^-24 of the coordinates themselves; nearer (vertices far beyond the hit: huge
+   coordinates beside an ordinary mesh, a triangle's plane through the eye's neighbourhood) its
+   answers can be anything, and clvis_project_triangle_wide decides. d is bounded below by the
+   distance from the origin to the triangle's bounding box along the axis that separates them
+   best (0 where the origin lies inside the box's slab on every axis). */
+#define CLVIS_RAY_RANGE 32.0f
+
+static inline float clvis_min3f(float x, float y, float z) { float m = x < y ? x : y; return m < z ? m : z; }
+static inline float clvis_max3f(float x, float y, float z) { float m = x > y ? x : y; return m > z ? m : z; }
+
+/* Whether the float test can be trusted on a triangle whose vertices minus the ray's origin are
+   A, B and C: M <= CLVIS_RAY_RANGE d as above (false where a coordinate is not finite or NaN). */
+static inline int clvis_ray_trusted(clvis_vec3 A, clvis_vec3 B, clvis_vec3 C)
+{
+    float lx = clvis_min3f(A.x, B.x, C.x), hx = clvis_max3f(A.x, B.x, C.x);
+    float ly = clvis_min3f(A.y, B.y, C.y), hy = clvis_max3f(A.y, B.y, C.y);
+    float lz = clvis_min3f(A.z, B.z, C.z), hz = clvis_max3f(A.z, B.z, C.z);
+    float gap = clvis_max3f(lx > -hx ? lx : -hx, ly > -hy ? ly : -hy, lz > -hz ? lz : -hz);
+    float m = clvis_max3f(-lx > hx ? -lx : hx, -ly > hy ? -ly : hy, -lz > hz ? -lz : hz);
+    return m <= CLVIS_RAY_RANGE * gap;
+}
+
 /* Triangle (a, b, c) in the sheared frame of a ray, which sits at the 2D origin: the vertices'
    2D positions, their depths along kz, and the edge functions u (edge b->c), v (c->a), w (a->b),
    which are the barycentric weights of a, b and c times det = u + v + w. Each edge is evaluated
    with the same operations in both triangles that share it (only the sign flips), so no ray
-   passes between them. Coordinates may be scaled by a power of two (clvis_project_triangle):
-   `unscale` takes a distance back to world units. */
+   passes between them. Coordinates may be scaled by a power of two (clvis_project_triangle_scaled):
+   `unscale` takes a distance back to world units. Where the float test cannot be trusted
+   (clvis_project_triangle), `wide` is set and `t` holds the plane's ray parameter. */
 typedef struct clvis_tri_2d {
     float ax, ay, bx, by, cx, cy;   /* sheared 2D positions, world units times 1 / unscale */
     float akz, bkz, ckz;            /* vertex minus origin along the axis kz */
     float u, v, w;                  /* edge functions of b->c, c->a, a->b */
     float unscale;                  /* 1 / the scale applied to every coordinate */
+    float t;                        /* wide: the ray parameter of the plane (else unused) */
+    clvis_i32 wide;                 /* computed by clvis_project_triangle_wide */
 } clvis_tri_2d;
 
 /* The three edge functions of clvis_tri_2d exactly rounded (the fallback where one rounded to 0). */
@@ -146,6 +177,10 @@ static inline CLVIS_ALWAYS_INLINE void clvis_project_triangle_scaled(clvis_ray_s
     if (p.u == 0.0f || p.v == 0.0f || p.w == 0.0f)
         clvis_exact_edges(&p.u, &p.v, &p.w, p.ax, p.ay, p.bx, p.by, p.cx, p.cy);
     p.unscale = 1.0f / k;
+    p.t = 0.0f;
+    p.wide = 0;
+    /* Whether the float test can be trusted (clvis_ray_trusted) on the translated vertices */
+    if (k == 1.0f && !clvis_ray_trusted(A, B, C)) p.wide = 1;
     *out = p;
 }
 
@@ -155,40 +190,110 @@ static inline CLVIS_ALWAYS_INLINE float clvis_triangle_tz(clvis_ray_shear s, clv
     return p.u * (s.sz * p.akz) + p.v * (s.sz * p.bkz) + p.w * (s.sz * p.ckz);
 }
 
-/* The triangle projected again with every coordinate scaled by clvis_ray_scale of the largest
-   magnitude: the rare case of huge finite coordinates, kept out of line. Its arguments and result
-   go by value: a pointer to the caller's triangle or vertices would keep them in memory on the
-   common path too. */
-static CLVIS_NOINLINE clvis_tri_2d clvis_project_triangle_rescaled(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b,
-                                                                   clvis_vec3 c)
+/* Triangle (a, b, c) against the ray in wider arithmetic, for the triangles the float test cannot
+   be trusted with (clvis_ray_trusted): every coordinate scaled by clvis_ray_scale of the largest
+   magnitude (a power of two: exact, and nothing overflows in float), the vertices translated per
+   axis (no axis mixed into another before the products: a small coordinate beside huge ones
+   keeps its bits), the edge functions as triple products with the sheared direction
+   (sx, sy, 1), exactly the float form's u = cx by - cy bx expanded, and the plane's ray parameter
+   from its normal, N.A / N.D, which does not cancel the way the float form's sum of u akz, v bkz
+   and w ckz does when the vertices lie far beyond the hit. In double where the device has it
+   (rounding 2^-53 relative to each product), else in float. Each edge function is antisymmetric
+   bit for bit in its two vertices, so two such triangles sharing an edge stay watertight. The
+   edge functions come back divided by the largest of them (their signs and ratios, the
+   barycentrics, kept; float cannot hold their magnitudes). Out of line, by value: it is rare. */
+#if defined(CLVIS_HAVE_DOUBLE)
+typedef double clvis_wide;
+#else
+typedef float clvis_wide;
+#endif
+
+static inline clvis_wide clvis_wide_edge(clvis_wide sx, clvis_wide sy, const clvis_wide* B, const clvis_wide* C)
+{
+    return sx * (C[1] * B[2] - C[2] * B[1]) + sy * (C[2] * B[0] - C[0] * B[2]) + (C[0] * B[1] - C[1] * B[0]);
+}
+
+static inline clvis_wide clvis_wide_abs(clvis_wide x) { return x < 0 ? -x : x; }
+
+static CLVIS_NOINLINE clvis_tri_2d clvis_project_triangle_wide(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b,
+                                                               clvis_vec3 c)
 {
     float m = clvis_max_abs3(a), mb = clvis_max_abs3(b), mc = clvis_max_abs3(c), mo = clvis_max_abs3(s.origin);
     m = m > mb ? m : mb;
     m = m > mc ? m : mc;
     m = m > mo ? m : mo;
+    float k = clvis_ray_scale(m);
     clvis_tri_2d p;
-    clvis_project_triangle_scaled(s, a, b, c, clvis_ray_scale(m), &p);
+    clvis_project_triangle_scaled(s, a, b, c, k, &p); /* the 2D positions, for clvis_edge_side */
+    clvis_vec3 v[3] = {a, b, c};
+    clvis_wide P[3][3], Q[3][3], o[3];
+    clvis_i32 axis[3] = {s.kx, s.ky, s.kz};
+    for (int j = 0; j < 3; ++j) o[j] = (clvis_wide)(clvis_component(s.origin, axis[j]) * k);
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            Q[i][j] = (clvis_wide)(clvis_component(v[i], axis[j]) * k); /* the scaled vertex */
+            P[i][j] = Q[i][j] - o[j];                                   /* minus the origin */
+        }
+    clvis_wide sx = (clvis_wide)s.sx, sy = (clvis_wide)s.sy;
+    clvis_wide u = clvis_wide_edge(sx, sy, P[1], P[2]), vv = clvis_wide_edge(sx, sy, P[2], P[0]);
+    clvis_wide w = clvis_wide_edge(sx, sy, P[0], P[1]);
+    /* the plane: N = (q1 - q0) x (q2 - q0), the hit at N.P0 / N.D along D = (sx, sy, 1), from the
+       vertex q0 nearest the origin (the others may lie far beyond the hit: N.P0 cancels least) */
+    int i0 = 0;
+    clvis_wide near0 = -1;
+    for (int i = 0; i < 3; ++i) {
+        clvis_wide mi = clvis_wide_abs(P[i][0]);
+        mi = clvis_wide_abs(P[i][1]) > mi ? clvis_wide_abs(P[i][1]) : mi;
+        mi = clvis_wide_abs(P[i][2]) > mi ? clvis_wide_abs(P[i][2]) : mi;
+        if (near0 < 0 || mi < near0) {
+            near0 = mi;
+            i0 = i;
+        }
+    }
+    int i1 = i0 == 2 ? 0 : i0 + 1, i2 = i1 == 2 ? 0 : i1 + 1;
+    clvis_wide e1[3], e2[3];
+    for (int j = 0; j < 3; ++j) {
+        e1[j] = Q[i1][j] - Q[i0][j];
+        e2[j] = Q[i2][j] - Q[i0][j];
+    }
+    clvis_wide nx = e1[1] * e2[2] - e1[2] * e2[1], ny = e1[2] * e2[0] - e1[0] * e2[2];
+    clvis_wide nz = e1[0] * e2[1] - e1[1] * e2[0];
+    clvis_wide na = nx * P[i0][0] + ny * P[i0][1] + nz * P[i0][2], nd = nx * sx + ny * sy + nz;
+    p.t = (float)(na / nd * (clvis_wide)s.sz / (clvis_wide)k);
+    clvis_wide big = clvis_wide_abs(u);
+    big = clvis_wide_abs(vv) > big ? clvis_wide_abs(vv) : big;
+    big = clvis_wide_abs(w) > big ? clvis_wide_abs(w) : big;
+    if (big > 0) {
+        u /= big;
+        vv /= big;
+        w /= big;
+    }
+    p.u = (float)u;
+    p.v = (float)vv;
+    p.w = (float)w;
+    p.wide = 1;
     return p;
 }
 
-/* The triangle in the ray's frame. Where huge finite coordinates overflow (det or tz not
-   finite), it is projected again with every coordinate scaled by clvis_ray_scale of the largest.
-   Always inlined into the tests below (and they into their callers where hot): out of line, the
-   ray, the vertices and the result went through private memory per triangle. The result goes out
-   by pointer, not returned: a returned struct is a noalias (sret) argument, and inlining one
-   emits llvm.experimental.noalias.scope.decl, which Oclgrind 21.10's interpreter cannot run. */
+/* The triangle in the ray's frame. Where the float test cannot be trusted (clvis_ray_trusted, or
+   det or tz not finite: huge finite coordinates overflow), it is computed again in wider
+   arithmetic (clvis_project_triangle_wide). Always inlined into the tests below (and they into
+   their callers where hot): out of line, the ray, the vertices and the result went through
+   private memory per triangle. The result goes out by pointer, not returned: a returned struct
+   is a noalias (sret) argument, and inlining one emits llvm.experimental.noalias.scope.decl,
+   which Oclgrind 21.10's interpreter cannot run. */
 static inline CLVIS_ALWAYS_INLINE void clvis_project_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b,
                                                               clvis_vec3 c, clvis_tri_2d* p)
 {
     clvis_project_triangle_scaled(s, a, b, c, 1.0f, p);
-    if (clvis_finite(p->u + p->v + p->w) && clvis_finite(clvis_triangle_tz(s, *p))) return;
-    *p = clvis_project_triangle_rescaled(s, a, b, c);
+    if (!p->wide && clvis_finite(p->u + p->v + p->w) && clvis_finite(clvis_triangle_tz(s, *p))) return;
+    *p = clvis_project_triangle_wide(s, a, b, c);
 }
 
 /* The ray parameter of the projected triangle's plane (det = u + v + w, non-zero). */
 static inline float clvis_triangle_t(clvis_ray_shear s, clvis_tri_2d p, float det)
 {
-    return clvis_triangle_tz(s, p) / det * p.unscale;
+    return p.wide ? p.t : clvis_triangle_tz(s, p) / det * p.unscale;
 }
 
 /* The watertight test of the ray against triangle (a, b, c), both sides, edges inclusive: rays

@@ -35,9 +35,11 @@ static CLVIS_NOINLINE packet_edges packet_exact_edges(packet_edges r, lanes_i ze
 }
 
 /* clvis_ray_edges_of on every lane: the shear, the edge functions (with the exact recompute on
-   the lanes where one rounded to zero: one OR of the lanes decides), det and tz. */
-static packet_edges packet_edges_of(const packet* p, lanes_f akx, lanes_f aky, lanes_f akz, lanes_f bkx, lanes_f bky,
-                                    lanes_f bkz, lanes_f ckx, lanes_f cky, lanes_f ckz)
+   the lanes where one rounded to zero: one OR of the lanes decides), det and tz. The result goes
+   out by pointer: inlined at its one call, a returned struct (sret) emits an intrinsic that
+   Oclgrind 21.10 cannot run (clvis_project_triangle, shared/ray.h). */
+static void packet_edges_of(const packet* p, lanes_f akx, lanes_f aky, lanes_f akz, lanes_f bkx, lanes_f bky,
+                            lanes_f bkz, lanes_f ckx, lanes_f cky, lanes_f ckz, packet_edges* out)
 {
     lanes_f ax = akx - p->sx * akz;
     lanes_f ay = aky - p->sy * akz;
@@ -53,7 +55,7 @@ static packet_edges packet_edges_of(const packet* p, lanes_f akx, lanes_f aky, l
     if (or_lanes(zero)) r = packet_exact_edges(r, zero, ax, ay, bx, by, cx, cy);
     r.det = r.u + r.v + r.w;
     r.tz = r.u * (p->sz * akz) + r.v * (p->sz * bkz) + r.w * (p->sz * ckz);
-    return r;
+    *out = r;
 }
 
 /* Lanes where the edge functions do not take both signs. (Masks come only from comparisons, never
@@ -63,6 +65,67 @@ static lanes_i not_outside(packet_edges r)
     return ((r.u >= 0.0f) & (r.v >= 0.0f) & (r.w >= 0.0f)) | ((r.u <= 0.0f) & (r.v <= 0.0f) & (r.w <= 0.0f));
 }
 
+/* clvis_ray_trusted on every lane, from the vertices minus each lane's origin. */
+static lanes_i packet_trusted(lanes_f akx, lanes_f aky, lanes_f akz, lanes_f bkx, lanes_f bky, lanes_f bkz,
+                              lanes_f ckx, lanes_f cky, lanes_f ckz)
+{
+    lanes_f lx = select(akx, bkx, bkx < akx), hx = select(akx, bkx, bkx > akx);
+    lanes_f ly = select(aky, bky, bky < aky), hy = select(aky, bky, bky > aky);
+    lanes_f lz = select(akz, bkz, bkz < akz), hz = select(akz, bkz, bkz > akz);
+    lx = select(lx, ckx, ckx < lx); hx = select(hx, ckx, ckx > hx);
+    ly = select(ly, cky, cky < ly); hy = select(hy, cky, cky > hy);
+    lz = select(lz, ckz, ckz < lz); hz = select(hz, ckz, ckz > hz);
+    lanes_f gx = select(-hx, lx, lx > -hx), gy = select(-hy, ly, ly > -hy), gz = select(-hz, lz, lz > -hz);
+    lanes_f gap = select(gx, gy, gy > gx);
+    gap = select(gap, gz, gz > gap);
+    lanes_f mx = select(hx, -lx, -lx > hx), my = select(hy, -ly, -ly > hy), mz = select(hz, -lz, -lz > hz);
+    lanes_f m = select(mx, my, my > mx);
+    m = select(m, mz, mz > m);
+    return m <= CLVIS_RAY_RANGE * gap;
+}
+
+/* The lanes in `wide` tested as the scalar test does there (clvis_project_triangle_wide on each
+   lane's ray): their edge functions and plane parameter replace r's. Rare: out of line. */
+static CLVIS_NOINLINE packet_edges packet_wide(const packet* p, const float* vert, lanes_i wide, packet_edges r,
+                                               lanes_f* t)
+{
+    float l_ox[CLVIS_PACKET], l_oy[CLVIS_PACKET], l_oz[CLVIS_PACKET], l_sx[CLVIS_PACKET], l_sy[CLVIS_PACKET];
+    float l_sz[CLVIS_PACKET], l_u[CLVIS_PACKET], l_v[CLVIS_PACKET], l_w[CLVIS_PACKET], l_t[CLVIS_PACKET];
+    int l_wide[CLVIS_PACKET], l_kx0[CLVIS_PACKET], l_kx1[CLVIS_PACKET], l_ky0[CLVIS_PACKET], l_ky1[CLVIS_PACKET];
+    int l_kz0[CLVIS_PACKET], l_kz1[CLVIS_PACKET];
+    vstore16(p->ox, 0, l_ox); vstore16(p->oy, 0, l_oy); vstore16(p->oz, 0, l_oz);
+    vstore16(p->sx, 0, l_sx); vstore16(p->sy, 0, l_sy); vstore16(p->sz, 0, l_sz);
+    vstore16(r.u, 0, l_u); vstore16(r.v, 0, l_v); vstore16(r.w, 0, l_w); vstore16(*t, 0, l_t);
+    vstore16(wide, 0, l_wide);
+    vstore16(p->kx0, 0, l_kx0); vstore16(p->kx1, 0, l_kx1); vstore16(p->ky0, 0, l_ky0);
+    vstore16(p->ky1, 0, l_ky1); vstore16(p->kz0, 0, l_kz0); vstore16(p->kz1, 0, l_kz1);
+    clvis_vec3 a = {vert[0], vert[1], vert[2]}, b = {vert[3], vert[4], vert[5]}, c = {vert[6], vert[7], vert[8]};
+    for (int l = 0; l < CLVIS_PACKET; ++l) {
+        if (!l_wide[l]) continue;
+        clvis_ray_shear s;
+        s.origin.x = l_ox[l];
+        s.origin.y = l_oy[l];
+        s.origin.z = l_oz[l];
+        s.sx = l_sx[l];
+        s.sy = l_sy[l];
+        s.sz = l_sz[l];
+        s.kx = l_kx0[l] ? 0 : (l_kx1[l] ? 1 : 2);
+        s.ky = l_ky0[l] ? 0 : (l_ky1[l] ? 1 : 2);
+        s.kz = l_kz0[l] ? 0 : (l_kz1[l] ? 1 : 2);
+        clvis_tri_2d q = clvis_project_triangle_wide(s, a, b, c);
+        l_u[l] = q.u;
+        l_v[l] = q.v;
+        l_w[l] = q.w;
+        l_t[l] = q.t;
+    }
+    r.u = vload16(0, l_u);
+    r.v = vload16(0, l_v);
+    r.w = vload16(0, l_w);
+    r.det = r.u + r.v + r.w;
+    *t = vload16(0, l_t);
+    return r;
+}
+
 /* clvis_intersect_triangle on every lane (culling by `faces`, CLVIS_CULL_*), keeping each lane's
    nearest key (t bits, then id). The vertices are permuted to each lane's shear axes and the lane's permuted origin subtracted: the
    same single subtraction as the scalar test, whichever comes first. */
@@ -70,74 +133,61 @@ static void packet_test_triangle(const packet* p, const float* vert, uint tri_id
                                  int faces, lanes_u* best_t, lanes_u* best_id)
 {
     lanes_f akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz;
+    lanes_i trusted;
     if (p->common_origin) {
         /* vertex minus origin once for all lanes: the same subtraction, done in scalar */
-        akx = (lanes_f)(vert[p->ukx] - p->uox);
-        aky = (lanes_f)(vert[p->uky] - p->uoy);
-        akz = (lanes_f)(vert[p->ukz] - p->uoz);
-        bkx = (lanes_f)(vert[3 + p->ukx] - p->uox);
-        bky = (lanes_f)(vert[3 + p->uky] - p->uoy);
-        bkz = (lanes_f)(vert[3 + p->ukz] - p->uoz);
-        ckx = (lanes_f)(vert[6 + p->ukx] - p->uox);
-        cky = (lanes_f)(vert[6 + p->uky] - p->uoy);
-        ckz = (lanes_f)(vert[6 + p->ukz] - p->uoz);
-    } else if (p->uniform) {
-        akx = (lanes_f)(vert[p->ukx]) - p->px;
-        aky = (lanes_f)(vert[p->uky]) - p->py;
-        akz = (lanes_f)(vert[p->ukz]) - p->pz;
-        bkx = (lanes_f)(vert[3 + p->ukx]) - p->px;
-        bky = (lanes_f)(vert[3 + p->uky]) - p->py;
-        bkz = (lanes_f)(vert[3 + p->ukz]) - p->pz;
-        ckx = (lanes_f)(vert[6 + p->ukx]) - p->px;
-        cky = (lanes_f)(vert[6 + p->uky]) - p->py;
-        ckz = (lanes_f)(vert[6 + p->ukz]) - p->pz;
+        float sa[3] = {vert[p->ukx] - p->uox, vert[p->uky] - p->uoy, vert[p->ukz] - p->uoz};
+        float sb[3] = {vert[3 + p->ukx] - p->uox, vert[3 + p->uky] - p->uoy, vert[3 + p->ukz] - p->uoz};
+        float sc[3] = {vert[6 + p->ukx] - p->uox, vert[6 + p->uky] - p->uoy, vert[6 + p->ukz] - p->uoz};
+        clvis_vec3 A = {sa[0], sa[1], sa[2]}, B = {sb[0], sb[1], sb[2]}, C = {sc[0], sc[1], sc[2]};
+        trusted = (lanes_i)(clvis_ray_trusted(A, B, C) ? -1 : 0);
+        akx = (lanes_f)(sa[0]);
+        aky = (lanes_f)(sa[1]);
+        akz = (lanes_f)(sa[2]);
+        bkx = (lanes_f)(sb[0]);
+        bky = (lanes_f)(sb[1]);
+        bkz = (lanes_f)(sb[2]);
+        ckx = (lanes_f)(sc[0]);
+        cky = (lanes_f)(sc[1]);
+        ckz = (lanes_f)(sc[2]);
     } else {
-        akx = permuted(vert[0], vert[1], vert[2], p->kx0, p->kx1) - p->px;
-        aky = permuted(vert[0], vert[1], vert[2], p->ky0, p->ky1) - p->py;
-        akz = permuted(vert[0], vert[1], vert[2], p->kz0, p->kz1) - p->pz;
-        bkx = permuted(vert[3], vert[4], vert[5], p->kx0, p->kx1) - p->px;
-        bky = permuted(vert[3], vert[4], vert[5], p->ky0, p->ky1) - p->py;
-        bkz = permuted(vert[3], vert[4], vert[5], p->kz0, p->kz1) - p->pz;
-        ckx = permuted(vert[6], vert[7], vert[8], p->kx0, p->kx1) - p->px;
-        cky = permuted(vert[6], vert[7], vert[8], p->ky0, p->ky1) - p->py;
-        ckz = permuted(vert[6], vert[7], vert[8], p->kz0, p->kz1) - p->pz;
+        if (p->uniform) {
+            akx = (lanes_f)(vert[p->ukx]) - p->px;
+            aky = (lanes_f)(vert[p->uky]) - p->py;
+            akz = (lanes_f)(vert[p->ukz]) - p->pz;
+            bkx = (lanes_f)(vert[3 + p->ukx]) - p->px;
+            bky = (lanes_f)(vert[3 + p->uky]) - p->py;
+            bkz = (lanes_f)(vert[3 + p->ukz]) - p->pz;
+            ckx = (lanes_f)(vert[6 + p->ukx]) - p->px;
+            cky = (lanes_f)(vert[6 + p->uky]) - p->py;
+            ckz = (lanes_f)(vert[6 + p->ukz]) - p->pz;
+        } else {
+            akx = permuted(vert[0], vert[1], vert[2], p->kx0, p->kx1) - p->px;
+            aky = permuted(vert[0], vert[1], vert[2], p->ky0, p->ky1) - p->py;
+            akz = permuted(vert[0], vert[1], vert[2], p->kz0, p->kz1) - p->pz;
+            bkx = permuted(vert[3], vert[4], vert[5], p->kx0, p->kx1) - p->px;
+            bky = permuted(vert[3], vert[4], vert[5], p->ky0, p->ky1) - p->py;
+            bkz = permuted(vert[3], vert[4], vert[5], p->kz0, p->kz1) - p->pz;
+            ckx = permuted(vert[6], vert[7], vert[8], p->kx0, p->kx1) - p->px;
+            cky = permuted(vert[6], vert[7], vert[8], p->ky0, p->ky1) - p->py;
+            ckz = permuted(vert[6], vert[7], vert[8], p->kz0, p->kz1) - p->pz;
+        }
+        trusted = packet_trusted(akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz);
     }
-    packet_edges r = packet_edges_of(p, akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz);
-    lanes_f unscale = (lanes_f)(1.0f);
-    lanes_i huge = not_finite(r.det) | not_finite(r.tz);
+    packet_edges r;
+    packet_edges_of(p, akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz, &r);
+    /* clvis_project_triangle's wide retest: where the float test cannot be trusted, or huge
+       finite coordinates overflowed */
+    lanes_i wide = (trusted == 0) | not_finite(r.det) | not_finite(r.tz);
     lanes_i inside = not_outside(r);
     /* Most triangles of a leaf miss every ray: then no lane's key can change (skip the division) */
-    int any_lane = or_lanes((huge & 1) | (inside & 2));
+    int any_lane = or_lanes((wide & 1) | (inside & 2));
     if (!any_lane) return;
+    lanes_f t = r.tz / r.det;
     if (any_lane & 1) {
-        /* clvis_intersect_triangle's scaled retest: every coordinate times clvis_ray_scale of the
-           largest magnitude among the vertices and the lane's origin. */
-        float m = 0.0f;
-        for (int i = 0; i < 9; ++i) m = fabs(vert[i]) > m ? fabs(vert[i]) : m;
-        lanes_f mo = select(fabs(p->px), fabs(p->py), fabs(p->py) > fabs(p->px));
-        mo = select(mo, fabs(p->pz), fabs(p->pz) > mo);
-        mo = select(mo, (lanes_f)(m), (lanes_f)(m) > mo);
-        lanes_i e = convert_int16((as_uint16(mo) >> 23) & 0xFFu) - 127;
-        lanes_f k = select((lanes_f)(1.0f), as_float16(convert_uint16(157 - e) << 23), e > 30);
-        packet_edges q = packet_edges_of(
-            p, permuted(vert[0], vert[1], vert[2], p->kx0, p->kx1) * k - p->px * k,
-            permuted(vert[0], vert[1], vert[2], p->ky0, p->ky1) * k - p->py * k,
-            permuted(vert[0], vert[1], vert[2], p->kz0, p->kz1) * k - p->pz * k,
-            permuted(vert[3], vert[4], vert[5], p->kx0, p->kx1) * k - p->px * k,
-            permuted(vert[3], vert[4], vert[5], p->ky0, p->ky1) * k - p->py * k,
-            permuted(vert[3], vert[4], vert[5], p->kz0, p->kz1) * k - p->pz * k,
-            permuted(vert[6], vert[7], vert[8], p->kx0, p->kx1) * k - p->px * k,
-            permuted(vert[6], vert[7], vert[8], p->ky0, p->ky1) * k - p->py * k,
-            permuted(vert[6], vert[7], vert[8], p->kz0, p->kz1) * k - p->pz * k);
-        r.u = select(r.u, q.u, huge);
-        r.v = select(r.v, q.v, huge);
-        r.w = select(r.w, q.w, huge);
-        r.det = select(r.det, q.det, huge);
-        r.tz = select(r.tz, q.tz, huge);
-        unscale = select(unscale, 1.0f / k, huge);
+        r = packet_wide(p, vert, wide, r, &t);
         inside = not_outside(r);
     }
-    lanes_f t = r.tz / r.det * unscale;
     lanes_i hit = inside & (r.det != 0.0f) & (t >= near_t) & (t <= far_t);
     if (faces == CLVIS_CULL_BACK) hit &= r.det > 0.0f; /* clvis_cull_keeps on every lane */
     else if (faces == CLVIS_CULL_FRONT) hit &= r.det < 0.0f;
