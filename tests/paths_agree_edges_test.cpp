@@ -98,7 +98,7 @@ TEST_CASE("coincident triangles go to the lower id; intersecting ones give no er
     }
 }
 
-TEST_CASE("slivers, needles and zero-area triangles, no errors", "[device][agree][rusticl]")
+TEST_CASE("slivers, needles and zero-area triangles, no errors", "[device][agree][rusticl][rusticl_long]")
 {
     Device device = Device::open();
     Tally tally;

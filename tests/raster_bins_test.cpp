@@ -35,7 +35,8 @@ std::vector<std::uint64_t> keys(const Device& d, const Scene& s, const Camera& c
 
 } // namespace
 
-TEST_CASE("lists and bins past their first capacity are grown and redrawn", "[device][raster][rusticl]")
+TEST_CASE("lists and bins past their first capacity are grown and redrawn",
+          "[device][raster][rusticl][rusticl_long]")
 {
     Device d = Device::open();
     Scene s;

@@ -239,7 +239,7 @@ TEST_CASE("the clipper cuts huge finite edges on the plane and drops points that
 }
 
 TEST_CASE("the largest accepted images are drawn exactly to their borders, both ways",
-          "[device][raster][limits][rusticl]")
+          "[device][raster][limits][rusticl][rusticl_long]")
 {
     // Power-of-two sizes under the pixel camera: every float32 step is exact, so the referee's
     // own EPS applies. On main before the guard band followed the image, the backdrop's clipped
