@@ -21,7 +21,8 @@ namespace {
 struct RaysArgs {
     SceneInput scene;
     DeviceOptions device;
-    std::string rays, hits, query = "closest";
+    std::string rays, hits;
+    RayQueryKind query = RayQueryKind::Closest;
     std::size_t batch = std::size_t(1) << 20;
     bool brute = false, json = false, quiet = false;
 };
@@ -56,7 +57,7 @@ void rays_command(const RaysArgs& a)
     double load_ms = 0;
     SceneFile file = a.scene.load(&load_ms);
     if (file.scene.empty()) throw Error(Error::Kind::InvalidArgument, "the scene holds no triangles");
-    RayQueryKind kind = ray_query_kind_from_string(a.query.c_str());
+    const RayQueryKind kind = a.query;
     std::vector<RayRecord> rays = read_rays_converted(a.rays);
     Device device = a.device.open();
     Renderer renderer(device, file.scene);
@@ -115,8 +116,7 @@ void add_rays_command(CLI::App& app)
     args->device.add_to(*cmd);
     cmd->add_option("--rays", args->rays, "the rays (.npy or raw records)")->required();
     cmd->add_option("--hits", args->hits, "where the answers go (.npy, or raw records as .bin or .raw)")->required();
-    cmd->add_option("--query", args->query, "closest, any (occlusion) or count")
-        ->check(CLI::IsMember({"closest", "any", "count"}));
+    add_choice(*cmd, "--query", args->query, "closest, any (occlusion) or count");
     cmd->add_option("--batch", args->batch, "rays per kernel launch at most")->check(CLI::Range(1, 1 << 28));
     cmd->add_flag("--brute", args->brute, "test every triangle instead of walking the BVH");
     cmd->add_flag("--json", args->json, "print one JSON object with the counts and timings on standard output");

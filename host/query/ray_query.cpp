@@ -18,23 +18,6 @@ using namespace detail;
 static_assert(sizeof(clvis_ray_rec) == sizeof(RayRecord), "layout shared with kernels/shared/ray_query.h");
 static_assert(sizeof(clvis_hit_rec) == sizeof(HitRecord), "layout shared with kernels/shared/ray_query.h");
 
-const char* to_string(RayQueryKind kind) noexcept
-{
-    switch (kind) {
-    case RayQueryKind::Closest: return "closest";
-    case RayQueryKind::Any: return "any";
-    case RayQueryKind::Count: return "count";
-    }
-    return "unknown";
-}
-
-RayQueryKind ray_query_kind_from_string(const char* name)
-{
-    for (RayQueryKind k : {RayQueryKind::Closest, RayQueryKind::Any, RayQueryKind::Count})
-        if (std::string(name) == to_string(k)) return k;
-    throw Error(Error::Kind::InvalidArgument, std::string("unknown ray query '") + name + "' (closest, any or count)");
-}
-
 bool ray_is_valid(const RayRecord& ray) noexcept
 {
     clvis_ray_rec r;

@@ -1,7 +1,10 @@
 // Names of every option enum (paths, culling, coverage, BVH updates, the raster path's depth-test
-// modes and mappings, the ray path's mappings, shading modes), one table each, for flags,
+// modes and mappings, the ray path's mappings, shading modes, film fits, ray queries), one table
+// each, for flags,
 // bindings, messages and reports; and the sample counts of kernels/shared/samples.h.
+#include <clvis/camera.hpp>
 #include <clvis/error.hpp>
+#include <clvis/rays.hpp>
 #include <clvis/render_options.hpp>
 #include <clvis/shading.hpp>
 
@@ -74,6 +77,19 @@ struct Names<ShadeMode> {
         {ShadeMode::Lambert, "lambert"}, {ShadeMode::Depth, "depth"}, {ShadeMode::Ids, "ids"}};
 };
 
+template <>
+struct Names<FilmFit> {
+    static constexpr const char* option = "fit"; // Camera::physical's fit
+    static constexpr std::pair<FilmFit, const char*> values[] = {{FilmFit::Fill, "fill"}, {FilmFit::Overscan, "overscan"}};
+};
+
+template <>
+struct Names<RayQueryKind> {
+    static constexpr const char* option = "query"; // clvis rays --query
+    static constexpr std::pair<RayQueryKind, const char*> values[] = {
+        {RayQueryKind::Closest, "closest"}, {RayQueryKind::Any, "any"}, {RayQueryKind::Count, "count"}};
+};
+
 template <class E>
 const char* name_of(E value) noexcept
 {
@@ -121,6 +137,8 @@ CLVIS_OPTION_NAMES(RasterAtomics, raster_atomics_from_string)
 CLVIS_OPTION_NAMES(RasterMapping, raster_mapping_from_string)
 CLVIS_OPTION_NAMES(RayMapping, ray_mapping_from_string)
 CLVIS_OPTION_NAMES(ShadeMode, shade_mode_from_string)
+CLVIS_OPTION_NAMES(FilmFit, film_fit_from_string)
+CLVIS_OPTION_NAMES(RayQueryKind, ray_query_kind_from_string)
 
 #undef CLVIS_OPTION_NAMES
 

@@ -72,9 +72,11 @@ const std::vector<FieldDef>& field_defs()
         {{"fit", "fill|overscan", "physical camera: the film gate fills the image, or all of it is inside (default fill)",
           0, false},
          [](CameraSpec& s, const CameraValue& v, const std::string& where) {
-             if (v.word == "fill") s.fit = FilmFit::Fill;
-             else if (v.word == "overscan") s.fit = FilmFit::Overscan;
-             else bad(where, "expected fill or overscan, got '" + v.word + "'");
+             try {
+                 s.fit = film_fit_from_string(v.word);
+             } catch (const Error&) {
+                 bad(where, "expected fill or overscan, got '" + v.word + "'");
+             }
          }},
         {{"intrinsics", "FX,FY,CX,CY", "focal lengths and principal point in pixels (pixel i's centre at i+0.5)", 4,
           false},

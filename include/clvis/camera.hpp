@@ -19,6 +19,10 @@ enum class FilmFit {
     Fill,     ///< the film gate fills the image: the image shows part of it
     Overscan, ///< the whole film gate is inside the image: the image shows more
 };
+/// "fill" or "overscan" (render_options.cpp's table, as option_names<FilmFit>()).
+const char* to_string(FilmFit fit) noexcept;
+/// Throws Error(InvalidArgument) for any other name.
+FilmFit film_fit_from_string(const std::string& name);
 
 struct CameraFrame {
     Vec3 r, u, f; ///< right, up, forward (unit vectors); camera space is (r, u, -f)

@@ -44,8 +44,9 @@ enum class RayQueryKind {
 };
 
 const char* to_string(RayQueryKind kind) noexcept;
-/// "closest", "any" or "count"; throws Error(InvalidArgument) otherwise.
-RayQueryKind ray_query_kind_from_string(const char* name);
+/// "closest", "any" or "count" (render_options.cpp's table, as option_names<RayQueryKind>());
+/// throws Error(InvalidArgument) otherwise.
+RayQueryKind ray_query_kind_from_string(const std::string& name);
 
 /// What one query call did.
 struct RayQueryStats {

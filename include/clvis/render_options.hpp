@@ -26,7 +26,8 @@ const char* to_string(Path path) noexcept;
 Path path_from_string(const std::string& name);
 
 /// The names of every value of an option enum (Path, Cull, Coverage, BvhUpdate, RasterAtomics,
-/// RasterMapping, RayMapping, and shading.hpp's ShadeMode) in declaration order: what to_string
+/// RasterMapping, RayMapping, shading.hpp's ShadeMode, camera.hpp's FilmFit and rays.hpp's
+/// RayQueryKind) in declaration order: what to_string
 /// gives and the enum's *_from_string accepts, for flags' checks and bindings.
 template <class E>
 const std::vector<std::string>& option_names();

@@ -41,8 +41,7 @@ Camera make_camera(Vec eye, Vec target, Vec up, const Lens& lens, double near, d
     } else if (lens.focal_length) {
         if (!lens.film_gate) bad_camera("focal_length needs film_gate=(width_mm, height_mm)");
         if (!lens.aspect) bad_camera("focal_length needs aspect=width/height of the image");
-        const FilmFit fit = parse_choice<FilmFit>(lens.fit, "Camera: fit",
-                                                  {{"fill", FilmFit::Fill}, {"overscan", FilmFit::Overscan}});
+        const FilmFit fit = film_fit_from_string(lens.fit);
         c = Camera::physical(to_vec3(eye), to_vec3(target), to_vec3(up), *lens.focal_length, (*lens.film_gate)[0],
                              (*lens.film_gate)[1], fit, *lens.aspect, near, far);
     } else {
