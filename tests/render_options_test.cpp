@@ -1,10 +1,14 @@
-// The option enums' names (render_options.hpp, and shading.hpp's ShadeMode): every value
+// The option enums' names (render_options.hpp, shading.hpp's ShadeMode, attributes.hpp's Attribute,
+// camera.hpp's FilmFit, rays.hpp's RayQueryKind): every value
 // round-trips through to_string and its *_from_string, option_names<E>() lists them in
 // declaration order, and an unknown name is refused with Error(InvalidArgument) naming the
 // option, the accepted names and the value given.
 #include "catch.hpp"
 
+#include <clvis/attributes.hpp>
+#include <clvis/camera.hpp>
 #include <clvis/error.hpp>
+#include <clvis/rays.hpp>
 #include <clvis/render_options.hpp>
 #include <clvis/shading.hpp>
 
@@ -60,6 +64,11 @@ TEST_CASE("every option enum round-trips through its names, and an unknown name 
                             "ray_mapping", "auto, packet, single");
     check_names<ShadeMode>({ShadeMode::Lambert, ShadeMode::Depth, ShadeMode::Ids}, shade_mode_from_string, "mode",
                            "lambert, depth, ids");
+    check_names<Attribute>({Attribute::Barycentrics, Attribute::Position, Attribute::Normal, Attribute::SmoothNormal},
+                           attribute_from_string, "attribute", "barycentrics, position, normal, smooth_normal");
+    check_names<FilmFit>({FilmFit::Fill, FilmFit::Overscan}, film_fit_from_string, "fit", "fill, overscan");
+    check_names<RayQueryKind>({RayQueryKind::Closest, RayQueryKind::Any, RayQueryKind::Count},
+                              ray_query_kind_from_string, "query", "closest, any, count");
 }
 
 TEST_CASE("samples per pixel are the powers of two up to 16, and the refusal lists them", "[render_options]")

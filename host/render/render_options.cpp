@@ -1,7 +1,7 @@
 // Names of every option enum (paths, culling, coverage, BVH updates, the raster path's depth-test
-// modes and mappings, the ray path's mappings, shading modes, film fits, ray queries), one table
-// each, for flags,
-// bindings, messages and reports; and the sample counts of kernels/shared/samples.h.
+// modes and mappings, the ray path's mappings, shading modes, attributes, film fits, ray
+// queries), one table each, for flags, bindings, messages and reports; and the sample counts of kernels/shared/samples.h.
+#include <clvis/attributes.hpp>
 #include <clvis/camera.hpp>
 #include <clvis/error.hpp>
 #include <clvis/rays.hpp>
@@ -78,6 +78,15 @@ struct Names<ShadeMode> {
 };
 
 template <>
+struct Names<Attribute> {
+    static constexpr const char* option = "attribute"; // resolve's attributes
+    static constexpr std::pair<Attribute, const char*> values[] = {{Attribute::Barycentrics, "barycentrics"},
+                                                                   {Attribute::Position, "position"},
+                                                                   {Attribute::Normal, "normal"},
+                                                                   {Attribute::SmoothNormal, "smooth_normal"}};
+};
+
+template <>
 struct Names<FilmFit> {
     static constexpr const char* option = "fit"; // Camera::physical's fit
     static constexpr std::pair<FilmFit, const char*> values[] = {{FilmFit::Fill, "fill"}, {FilmFit::Overscan, "overscan"}};
@@ -137,6 +146,7 @@ CLVIS_OPTION_NAMES(RasterAtomics, raster_atomics_from_string)
 CLVIS_OPTION_NAMES(RasterMapping, raster_mapping_from_string)
 CLVIS_OPTION_NAMES(RayMapping, ray_mapping_from_string)
 CLVIS_OPTION_NAMES(ShadeMode, shade_mode_from_string)
+CLVIS_OPTION_NAMES(Attribute, attribute_from_string)
 CLVIS_OPTION_NAMES(FilmFit, film_fit_from_string)
 CLVIS_OPTION_NAMES(RayQueryKind, ray_query_kind_from_string)
 

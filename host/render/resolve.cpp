@@ -41,17 +41,6 @@ std::size_t attribute_bytes(const AttributeBuffers& a, Attribute which)
 
 int channels(Attribute a) noexcept { return a == Attribute::Barycentrics ? 2 : 3; }
 
-const char* to_string(Attribute a) noexcept
-{
-    switch (a) {
-    case Attribute::Barycentrics: return "barycentrics";
-    case Attribute::Position: return "position";
-    case Attribute::Normal: return "normal";
-    case Attribute::SmoothNormal: return "smooth normal";
-    }
-    return "unknown";
-}
-
 bool AttributeRequest::has(Attribute a) const noexcept
 {
     switch (a) {

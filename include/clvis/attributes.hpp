@@ -27,7 +27,11 @@ constexpr int attribute_count = 4;
 
 /// Floats per pixel of an attribute: 2 for barycentrics, 3 for the others.
 int channels(Attribute a) noexcept;
+/// "barycentrics", "position", "normal" or "smooth_normal" (render_options.cpp's table, as
+/// option_names<Attribute>(); Python's resolve() takes the same names).
 const char* to_string(Attribute a) noexcept;
+/// Throws Error(InvalidArgument) for any other name.
+Attribute attribute_from_string(const std::string& name);
 
 /// Which attributes to resolve.
 struct AttributeRequest {

@@ -13,9 +13,11 @@ namespace {
 
 Attribute attribute_named(const std::string& name)
 {
-    return parse_choice<Attribute>(name, "resolve: attribute",
-                                   {{"barycentrics", Attribute::Barycentrics}, {"position", Attribute::Position},
-                                    {"normal", Attribute::Normal}, {"smooth_normal", Attribute::SmoothNormal}});
+    try {
+        return attribute_from_string(name);
+    } catch (const Error& e) {
+        throw Error(e.kind(), std::string("resolve: ") + e.what());
+    }
 }
 
 nb::dict resolve_attributes(PyRenderer& r, const PyVisibility& vis, const std::vector<std::string>& names)
