@@ -202,6 +202,18 @@ PathResult run_path(Renderer& renderer, const std::vector<Camera>& cameras, cons
 
 /// Refuses, before any file is read, what the flags cannot do together (Error(InvalidArgument)
 /// naming the flag), and returns the paths that run.
+/// The spread modes' request with what the flags say; the caller adds the scene and cameras.
+SpreadRequest spread_request(const RenderArgs& a)
+{
+    SpreadRequest request;
+    request.spread = a.spread;
+    request.path = a.path;
+    request.views = a.views;
+    request.image = a.image;
+    request.device_spec = a.device.spec;
+    return request;
+}
+
 std::vector<Path> check_flags(const RenderArgs& a)
 {
     auto refuse = [](const std::string& why) { throw Error(Error::Kind::InvalidArgument, why); };
@@ -227,13 +239,7 @@ std::vector<Path> check_flags(const RenderArgs& a)
         for (const auto& [flag, file, kind] : output_flags(a))
             if (!file.empty() && kind != OutputKind::Ids && kind != OutputKind::Depth && flag != "--image")
                 refuse(flag + ": for one device in one process; --devices and --distribute write --ids and --depth");
-        SpreadRequest request;
-        request.spread = a.spread;
-        request.path = a.path;
-        request.views = a.views;
-        request.image = a.image;
-        request.device_spec = a.device.spec;
-        return {check_spread(request)};
+        return {check_spread(spread_request(a))};
     }
     if (a.path == "all") return {Path::Raster, Path::Ray};
     return {path_from_string(a.path)};
@@ -264,12 +270,7 @@ void render_command(RenderArgs a)
     if (cameras.empty()) cameras.push_back(camera);
     if (file.scene.empty()) throw Error(Error::Kind::InvalidArgument, "the scene holds no triangles");
     if (a.spread.any()) {
-        SpreadRequest request;
-        request.spread = a.spread;
-        request.path = a.path;
-        request.views = a.views;
-        request.image = a.image;
-        request.device_spec = a.device.spec;
+        SpreadRequest request = spread_request(a);
         request.file = &file;
         request.load_ms = load_ms;
         request.cameras = cameras;
