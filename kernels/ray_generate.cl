@@ -3,7 +3,7 @@
    hash of seed, pixel and sample, so the same call gives the same rays) and shadow rays toward a
    point light. Each starts at the pixel's visible point, moved off the surface along the normal
    on the camera's side. A background pixel gets a ray of zero direction, which the queries answer
-   as a miss. Launched by host/ray_generate.cpp; writes AoS rays (shared/ray_query.h). */
+   as a miss. Launched by host/query/ray_generate.cpp; writes AoS rays (shared/ray_query.h). */
 #include "shared/camera.h"
 #include "shared/ray_query.h"
 #include "shared/visibility.h"

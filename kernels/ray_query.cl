@@ -3,7 +3,7 @@
    the 4-wide BVH that ray_trace.cl reads (shared/bvh.h);
    ray_query_brute tests every triangle in id order instead, the reference the BVH walk must
    equal. Rays and results live in buffers of either layout (shared/ray_query.h). Launched by
-   host/ray/ray_query.cpp, built once per query kind (CLVIS_QUERY), stack size (CLVIS_RAY_STACK) and
+   host/query/ray_query.cpp, built once per query kind (CLVIS_QUERY), stack size (CLVIS_RAY_STACK) and
    lanes, on PoCL's CPU device with CLVIS_PREFETCH. The walk is the ray kernels' one
    (shared/bvh_walk.h). With CLVIS_INSTANCES (a scene with instances) it starts in the top level
    of the two-level BVH and enters instances (shared/instance.h: world boxes widened

@@ -1,6 +1,6 @@
 /* Ray queries (CONVENTIONS.md "Ray queries"): the layouts of rays and hits in device buffers, the
    query kinds, and what makes a ray invalid. Shared by ray_query.cl, ray_query_brute.cl,
-   ray_generate.cl and host/ray_query.cpp, so the host checks the layouts the kernels read. */
+   ray_generate.cl and host/query/ray_query.cpp, so the host checks the layouts the kernels read. */
 #ifndef CLVIS_SHARED_RAY_QUERY_H
 #define CLVIS_SHARED_RAY_QUERY_H
 

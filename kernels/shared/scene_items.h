@@ -1,5 +1,5 @@
 /* A scene with instances as the raster path reads it without the expansion (CONVENTIONS.md
-   "Instances", host/render/instanced_scene.cpp): every mesh stored once (prototypes in object
+   "Instances", host/frame/instanced_scene.cpp): every mesh stored once (prototypes in object
    space, plain meshes in world space, as the expansion holds them) and a 64-byte record per item
    in id order. An item's world-space vertices are clvis_instance_point of its mesh's (the
    expansion's formula, shared/instance.h), or its mesh's own bits when it is not transformed
