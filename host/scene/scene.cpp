@@ -9,6 +9,7 @@
 #include "scene/scene_probe.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <string>
 
@@ -44,6 +45,22 @@ void check_mesh(const std::string& name, const MeshData& mesh)
     if (mesh.indices.size() % 3) invalid(name, "indices must hold 3 per triangle");
     if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
         invalid(name, "normals must be empty or one per vertex");
+    for (std::size_t a = 0; a < mesh.attributes.size(); ++a) {
+        const CornerAttribute& attr = mesh.attributes[a];
+        std::string what = "attribute '" + attr.name + "'";
+        if (attr.name.empty()) invalid(name, "attribute " + std::to_string(a) + " has no name");
+        for (char c : attr.name)
+            if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_'))
+                invalid(name, what + ": a name holds letters, digits and '_' only");
+        for (std::size_t b = 0; b < a; ++b)
+            if (mesh.attributes[b].name == attr.name) invalid(name, what + " appears twice");
+        if (attr.components < 1 || attr.components > 4)
+            invalid(name, what + " has " + std::to_string(attr.components) + " components (1 to 4)");
+        if (attr.values.size() != mesh.indices.size() * std::size_t(attr.components))
+            invalid(name, what + " holds " + std::to_string(attr.values.size()) + " floats, not " +
+                              std::to_string(attr.components) + " per corner of " +
+                              std::to_string(mesh.triangle_count()) + " triangles");
+    }
     std::size_t vertices = mesh.vertex_count();
     check_positions(name, mesh.positions.data(), vertices);
     for (std::size_t i = 0; i < mesh.indices.size(); ++i)

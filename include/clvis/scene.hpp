@@ -19,12 +19,24 @@ constexpr std::uint32_t background_id = 0xFFFFFFFFu;
 /// The most triangles a scene may hold: ids are 32-bit and background_id is reserved.
 constexpr std::uint64_t max_triangles = 0xFFFFFFFFull;
 
+/// A face-varying vertex attribute (CONVENTIONS.md "Vertex attributes"): one value per corner of
+/// every triangle, so seams need no split vertices. The loaders name them "uv" (OBJ vt, PLY u/v,
+/// glTF TEXCOORD_0), "uv1" (glTF TEXCOORD_1), "color" (RGBA) or by a PLY property's own name.
+struct CornerAttribute {
+    std::string name;          ///< unique within a mesh; letters, digits and '_'
+    int components = 1;        ///< 1 to 4
+    std::vector<float> values; ///< components floats per corner, corners in index order: 3 per triangle
+
+    std::size_t corner_count() const { return components > 0 ? values.size() / std::size_t(components) : 0; }
+};
+
 /// One mesh as plain arrays: positions x,y,z per vertex, three indices per triangle.
 struct MeshData {
     std::string name;               ///< for messages (a file name, "sphere", ...)
     std::vector<float> positions;   ///< 3 floats per vertex
     std::vector<std::uint32_t> indices; ///< 3 per triangle, each < vertex count
     std::vector<float> normals;     ///< optional: 3 floats per vertex, or empty
+    std::vector<CornerAttribute> attributes; ///< optional, face-varying; never change ids or depths
 
     std::size_t vertex_count() const { return positions.size() / 3; }
     std::size_t triangle_count() const { return indices.size() / 3; }
