@@ -193,6 +193,9 @@ file(WRITE ${WORK}/scene.json "{\"meshes\": [{\"file\": \"${MESH}\"}], \"width\"
   \"camera\": {\"eye\": [0.3, 0.8, 2.5], \"target\": [0, 0.6, 0], \"focal_length\": 35,
                \"film_gate\": [36, 24], \"fit\": \"overscan\"}}")
 expect(0 "80x40.*--eye 0.3,0.8,2.5 --target 0,0.6,0" info ${WORK}/scene.json)
+# Attributes: spot's vt are its "uv", listed by info for the file and for the scene file's mesh.
+expect(0 "attributes uv \\(2\\)" info ${MESH})
+expect(0 "5856 triangles, attributes uv \\(2\\)" info ${WORK}/scene.json)
 expect(0 "\"height\": 40.*\"width\": 80" render ${WORK}/scene.json --path all --json --quiet)
 # The raster path's depth test, chosen or resolved from the device, is reported.
 expect(0 "\"raster_atomics\": \"off\"" render ${MESH} ${size} --raster-atomics off --json)

@@ -6,6 +6,7 @@
 
 #include <clvis/clvis.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <filesystem>
@@ -21,6 +22,15 @@ namespace {
 void print_bounds(const Bounds& b, const char* label)
 {
     std::printf("    %-10s [%g, %g, %g] .. [%g, %g, %g]\n", label, b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
+}
+
+/// "uv (2), color (4)": a mesh's attributes, names and components.
+std::string attribute_list(const MeshData& m)
+{
+    std::string s;
+    for (const CornerAttribute& a : m.attributes)
+        s += (s.empty() ? "" : ", ") + a.name + " (" + std::to_string(a.components) + ")";
+    return s;
 }
 
 bool is_gltf(const std::string& path)
@@ -49,6 +59,12 @@ void mesh_info(const std::string& path)
     if (gltf) {
         std::printf("    glTF       %zu items of %zu meshes\n", gltf->items.size(), gltf->meshes.size());
         for (const std::string& note : gltf->notes) std::printf("    note       %s\n", note.c_str());
+        for (const MeshData& m : gltf->meshes)
+            if (!m.attributes.empty()) // "<file> meshes[0].primitives[1]": the glTF path after the file
+                std::printf("    attributes %s: %s\n", m.name.substr(std::min(m.name.size(), path.size() + 1)).c_str(),
+                            attribute_list(m).c_str());
+    } else if (!scene.meshes().front().data.attributes.empty()) {
+        std::printf("    attributes %s\n", attribute_list(scene.meshes().front().data).c_str());
     }
     print_bounds(scene.bounds(), "bounds");
     std::printf("    load       %.1f ms\n", ms);
@@ -62,9 +78,13 @@ void scene_file_info(const std::string& path)
     double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     View view = resolve_view(CameraOptions{}, file, path);
     std::printf("%s (scene file)\n", path.c_str());
-    for (const auto& m : file.scene.meshes())
-        std::printf("    mesh       %s: %zu triangles%s\n", m.data.name.c_str(), m.data.triangle_count(),
-                    m.transform.is_identity() ? "" : ", transformed");
+    for (std::size_t k = 0; k < file.scene.meshes().size(); ++k) {
+        const auto& m = file.scene.meshes()[k];
+        std::string attributes = attribute_list(file.scene.data_of(k));
+        std::printf("    mesh       %s: %zu triangles%s%s%s\n", m.data.name.c_str(), m.data.triangle_count(),
+                    m.transform.is_identity() ? "" : ", transformed", attributes.empty() ? "" : ", attributes ",
+                    attributes.c_str());
+    }
     std::printf("    triangles  %zu\n", file.scene.triangle_count());
     std::printf("    vertices   %zu\n", file.scene.vertex_count());
     print_bounds(file.scene.bounds(), "bounds");

@@ -133,9 +133,36 @@ void apply_sparse(const tinygltf::Model& model, const tinygltf::Accessor& a, std
     }
 }
 
+/// The component types an accessor may have: FLOAT; an index type; FLOAT or, normalized,
+/// UNSIGNED_BYTE and UNSIGNED_SHORT (texture coordinates and colours).
+enum class Admit { Float, Index, Normalized };
+
+bool admits(const tinygltf::Accessor& a, Admit admit)
+{
+    switch (admit) {
+    case Admit::Float: return a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT;
+    case Admit::Index: return is_index_type(a.componentType);
+    case Admit::Normalized:
+        return a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+               (a.normalized && (a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                                 a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT));
+    }
+    return false;
+}
+
+const char* admitted(Admit admit)
+{
+    switch (admit) {
+    case Admit::Float: return "FLOAT (KHR_mesh_quantization is not supported)";
+    case Admit::Index: return "UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT";
+    case Admit::Normalized: return "FLOAT, or UNSIGNED_BYTE or UNSIGNED_SHORT normalized";
+    }
+    return "";
+}
+
 /// The accessor's elements, `comps` components of type T each, after checking its type.
 template <class T>
-std::vector<T> read_elements(const tinygltf::Model& model, int index, int type, std::size_t comps, bool indices,
+std::vector<T> read_elements(const tinygltf::Model& model, int index, int type, std::size_t comps, Admit admit,
                              const std::string& name)
 {
     std::string where = "accessors[" + std::to_string(index) + "]";
@@ -144,10 +171,9 @@ std::vector<T> read_elements(const tinygltf::Model& model, int index, int type, 
     const tinygltf::Accessor& a = model.accessors[std::size_t(index)];
     if (a.type != type)
         fail(name, where + ": type is " + type_name(a.type) + ", expected " + type_name(type));
-    if (indices ? !is_index_type(a.componentType) : a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
-        fail(name, where + ": componentType " + std::to_string(a.componentType) + " is not " +
-                       (indices ? "UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT"
-                                : "FLOAT (KHR_mesh_quantization is not supported)"));
+    if (!admits(a, admit))
+        fail(name, where + ": componentType " + std::to_string(a.componentType) +
+                       (a.normalized ? " (normalized)" : "") + " is not " + admitted(admit));
     std::size_t elem = comps * component_bytes(a.componentType);
     std::vector<T> out;
     if (a.bufferView < 0) {
@@ -173,12 +199,32 @@ std::vector<T> read_elements(const tinygltf::Model& model, int index, int type, 
 
 std::vector<float> read_positions(const tinygltf::Model& model, int accessor, const std::string& name)
 {
-    return read_elements<float>(model, accessor, TINYGLTF_TYPE_VEC3, 3, false, name);
+    return read_elements<float>(model, accessor, TINYGLTF_TYPE_VEC3, 3, Admit::Float, name);
 }
 
 std::vector<std::uint32_t> read_indices(const tinygltf::Model& model, int accessor, const std::string& name)
 {
-    return read_elements<std::uint32_t>(model, accessor, TINYGLTF_TYPE_SCALAR, 1, true, name);
+    return read_elements<std::uint32_t>(model, accessor, TINYGLTF_TYPE_SCALAR, 1, Admit::Index, name);
+}
+
+std::vector<float> read_vertex_attribute(const tinygltf::Model& model, int accessor, bool color, int& components,
+                                         const std::string& name)
+{
+    int type = TINYGLTF_TYPE_VEC2;
+    if (color) { // VEC3 or VEC4: the accessor says which (read_elements names a missing one)
+        type = TINYGLTF_TYPE_VEC4;
+        if (accessor >= 0 && std::size_t(accessor) < model.accessors.size() &&
+            model.accessors[std::size_t(accessor)].type == TINYGLTF_TYPE_VEC3)
+            type = TINYGLTF_TYPE_VEC3;
+    }
+    components = type == TINYGLTF_TYPE_VEC2 ? 2 : type == TINYGLTF_TYPE_VEC3 ? 3 : 4;
+    std::vector<float> out = read_elements<float>(model, accessor, type, std::size_t(components), Admit::Normalized, name);
+    // Normalized integers as glTF 2.0 (section 3.11) maps them: c / 255, c / 65535.
+    int ct = model.accessors[std::size_t(accessor)].componentType;
+    double max = ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ? 255.0 : ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 65535.0 : 0;
+    if (max > 0)
+        for (float& v : out) v = float(double(v) / max);
+    return out;
 }
 
 } // namespace clvis::detail

@@ -1,6 +1,8 @@
 // glTF 2.0 (.gltf, .glb) into a GltfScene: tinygltf parses the JSON, the GLB chunks and the
 // buffers (files or base64 data URIs); this file walks the default scene's nodes and turns each
-// triangle primitive into ids exactly as CONVENTIONS.md's "Instances" section says. Called by
+// triangle primitive into ids exactly as CONVENTIONS.md's "Instances" section says, with its
+// TEXCOORD_0, TEXCOORD_1 and COLOR_0 as the attributes "uv", "uv1" and "color" (CONVENTIONS.md
+// "Vertex attributes": per corner, in the triangles' order, once per shared mesh). Called by
 // load_mesh / load_scene / load_gltf (host/scene/scene_io.cpp) and by the fuzz target fuzz_gltf.
 //
 // Why tinygltf and not assimp, compared on the .gltf/.glb files of Debian's assimp-testmodels
@@ -17,6 +19,7 @@
 //  - speed: of the same order for both.
 //  - surface: one header, no post-processing, and its file access goes through callbacks we own
 //    (no path expansion, images never decoded), which the fuzz target compiles instrumented.
+#include "scene/corner_attributes.hpp"
 #include "scene/instance_transform.hpp"
 #include "scene/scene_parsers.hpp"
 
@@ -56,6 +59,7 @@ MeshData flatten_gltf(const GltfScene& gltf, const std::string& name)
     out.name = name;
     out.positions.reserve(std::size_t(vertices) * 3);
     out.indices.reserve(std::size_t(triangles) * 3);
+    std::vector<const MeshData*> placed; // the meshes in item order, for their attributes
     for (const GltfScene::Item& item : gltf.items) {
         const MeshData& m = gltf.meshes[item.mesh];
         auto first = std::uint32_t(out.vertex_count());
@@ -66,7 +70,9 @@ MeshData flatten_gltf(const GltfScene& gltf, const std::string& name)
             if (!std::isfinite(out.positions[i]))
                 fail(name, "nodes[" + std::to_string(item.node) + "]: a transformed vertex overflows float32");
         for (std::uint32_t index : m.indices) out.indices.push_back(first + index);
+        placed.push_back(&m);
     }
+    out.attributes = concatenate_attributes(placed);
     return out;
 }
 
@@ -221,8 +227,35 @@ private:
             note(where + ": fewer than 3 vertices, no triangle");
             return std::nullopt;
         }
+        attributes(prim, m, where);
         out_.meshes.push_back(std::move(m));
         return out_.meshes.size() - 1;
+    }
+
+    /// TEXCOORD_0, TEXCOORD_1 and COLOR_0 per corner of m's triangles (COLOR_0 as RGB gets alpha 1).
+    void attributes(const tinygltf::Primitive& prim, MeshData& m, const std::string& where)
+    {
+        static const struct { const char* gltf; const char* name; bool color; } known[] = {
+            {"TEXCOORD_0", "uv", false}, {"TEXCOORD_1", "uv1", false}, {"COLOR_0", "color", true}};
+        for (const auto& k : known) {
+            auto it = prim.attributes.find(k.gltf);
+            if (it == prim.attributes.end()) continue;
+            int components = 0;
+            VertexAttribute a{k.name, 0, read_vertex_attribute(model_, it->second, k.color, components, name_)};
+            std::size_t elements = a.values.size() / std::size_t(components);
+            if (elements != m.vertex_count())
+                fail(name_, where + ".attributes." + k.gltf + ": " + std::to_string(elements) +
+                                " elements, POSITION has " + std::to_string(m.vertex_count()));
+            if (components == 3) {
+                std::vector<float> rgba(elements * 4, 1.0f);
+                for (std::size_t v = 0; v < elements; ++v)
+                    for (std::size_t c = 0; c < 3; ++c) rgba[v * 4 + c] = a.values[v * 3 + c];
+                a.values.swap(rgba);
+                components = 4;
+            }
+            a.components = components;
+            m.attributes.push_back(corners_of(a, m.indices));
+        }
     }
 
     const tinygltf::Model& model_;

@@ -1,7 +1,10 @@
 // PLY from memory into one MeshData: the header's elements in order, `vertex` x, y, z (any
 // numeric type), `face` vertex_indices / vertex_index lists fanned (v0, vk, vk+1) in file order,
-// every other element and property skipped by its declared size. Called by load_mesh
-// (host/scene/scene_io.cpp) and by the fuzz target fuzz_ply.
+// every other element and property skipped by its declared size. Vertex properties other than
+// x, y, z, nx, ny, nz become attributes (plan_ply_attributes, host/scene/corner_attributes.cpp),
+// expanded to corners through the faces. Called by load_mesh (host/scene/scene_io.cpp) and by the
+// fuzz target fuzz_ply.
+#include "scene/corner_attributes.hpp"
 #include "scene/scene_parsers.hpp"
 #include "scene/text_parse.hpp"
 
@@ -54,6 +57,20 @@ std::string number_text(double v)
 }
 
 bool is_integer(PlyType t) { return t != PlyType::F32 && t != PlyType::F64; }
+
+/// The largest value of an integer type (what a colour of that type is divided by), 0 for floats.
+double integer_max(PlyType t)
+{
+    switch (t) {
+    case PlyType::I8: return 127;
+    case PlyType::U8: return 255;
+    case PlyType::I16: return 32767;
+    case PlyType::U16: return 65535;
+    case PlyType::I32: return 2147483647.0;
+    case PlyType::U32: return 4294967295.0;
+    default: return 0;
+    }
+}
 
 bool type_from_name(std::string_view s, PlyType& t)
 {
@@ -217,6 +234,10 @@ public:
         if (max_index_ >= mesh_.vertex_count())
             fail(name_, "face " + std::to_string(max_index_face_) + " refers to vertex " + std::to_string(max_index_) +
                             ", the file has " + std::to_string(mesh_.vertex_count()) + " vertices");
+        for (VertexAttribute& a : attributes_) {
+            mesh_.attributes.push_back(corners_of(a, mesh_.indices));
+            std::vector<float>().swap(a.values);
+        }
         return std::move(mesh_);
     }
 
@@ -374,12 +395,23 @@ private:
             if (slot[axis] < 0) fail(name_, std::string("the vertex element has no property '") + char('x' + axis) + "'");
         if (e.count > 0xFFFFFFFFull) fail(name_, "more vertices than 32-bit indices allow");
         check_room(r, e);
+        std::vector<PlyVertexProperty> described;
+        for (const Property& p : e.properties) described.push_back({p.name, p.list, p.list ? 0 : integer_max(p.type)});
+        PlyAttributePlan plan = plan_ply_attributes(described, e.count, name_);
+        attributes_ = std::move(plan.attributes);
         mesh_.positions.resize(e.count * 3);
         float* out = mesh_.positions.data();
         for (std::uint64_t i = 0; i < e.count; ++i) {
             for (std::size_t k = 0; k < e.properties.size(); ++k) {
                 const Property& p = e.properties[k];
                 int axis = int(k) == slot[0] ? 0 : int(k) == slot[1] ? 1 : int(k) == slot[2] ? 2 : -1;
+                if (axis < 0 && plan.slots[k].attribute >= 0) { // kept as stored, NaN included
+                    const PlyAttributePlan::Slot& s = plan.slots[k];
+                    VertexAttribute& a = attributes_[std::size_t(s.attribute)];
+                    double v = r.scalar(p.type, where(e, i)) / s.divisor;
+                    a.values[std::size_t(i) * std::size_t(a.components) + std::size_t(s.component)] = float(v);
+                    continue;
+                }
                 if (axis < 0) {
                     skip_property(r, p, where(e, i));
                     continue;
@@ -440,6 +472,7 @@ private:
     std::string_view bytes_;
     const std::string& name_;
     MeshData mesh_;
+    std::vector<VertexAttribute> attributes_; ///< per vertex until the faces are read
     PlyFormat format_ = PlyFormat::Ascii;
     std::vector<Element> elements_;
     std::size_t body_ = 0;       ///< byte offset of the first value

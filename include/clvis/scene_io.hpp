@@ -29,6 +29,14 @@ namespace clvis {
 ///    the file's size before anything is allocated.
 ///  - glTF 2.0: the items of load_gltf, flattened into one mesh in id order (each item's
 ///    positions transformed in double and rounded once, as Scene does).
+///  - Attributes (MeshData::attributes, CONVENTIONS.md "Vertex attributes"), only when the file
+///    has them: OBJ "uv" from `vt` through each corner's own index (corners without one NaN) and
+///    "color" from `v x y z r g b` (alpha 1; vertices without a colour NaN); PLY "uv" (`u, v`,
+///    `s, t` or `texture_u, texture_v`), "color" (`red, green, blue[, alpha]`, integers divided
+///    by their type's maximum) and every other scalar vertex property but x, y, z, nx, ny, nz by
+///    its name (characters other than letters, digits and '_' become '_'; two properties giving
+///    one name are an error); glTF "uv", "uv1", "color" (TEXCOORD_0, TEXCOORD_1, COLOR_0; items
+///    without one NaN). STL has none. Values are kept as the file stores them.
 MeshData load_mesh(const std::string& path);
 
 /// A glTF 2.0 file as CONVENTIONS.md's "Instances" reads it: the triangle primitives met in a
@@ -43,7 +51,9 @@ struct GltfScene {
     /// One per (glTF mesh, primitive) that the walk meets, shared by every node using that mesh:
     /// POSITION as stored (float32), triangles in index order, strips and fans as the glTF
     /// specification orders them (strip: v_i, v_{i+1+i%2}, v_{i+2-i%2}; fan: v_{i+1}, v_{i+2},
-    /// v_0), indexed or not, sparse accessors applied.
+    /// v_0), indexed or not, sparse accessors applied; attributes "uv", "uv1" and "color" from
+    /// TEXCOORD_0, TEXCOORD_1 and COLOR_0 (normalised integers mapped as glTF says, RGB given
+    /// alpha 1), per corner of these triangles.
     std::vector<MeshData> meshes;
     std::vector<Item> items;        ///< in id order
     /// What was skipped and why (points and lines, no POSITION, skins, morph targets), and one
