@@ -94,9 +94,11 @@ TEST_CASE("every fuzz seed loads or throws clvis::Error, the well-formed ones lo
     fs::path corpus = fs::path(CLVIS_SOURCE_DIR) / "tests" / "fuzz" / "corpus";
     CHECK(replay_folder(corpus) >= 20);
     std::vector<const char*> seeds = {"obj/suzanne.obj", "ply/suzanne_le.ply", "ply/quad_be.ply",
-                                      "stl/suzanne_binary.stl", "stl/solid_but_binary.stl", "scene/full.json"};
+                                      "stl/suzanne_binary.stl", "stl/solid_but_binary.stl", "scene/full.json",
+                                      "obj/attributes.obj", "ply/attributes_ascii.ply", "ply/attributes_be.ply"};
 #ifdef CLVIS_HAVE_TINYGLTF
-    seeds.insert(seeds.end(), {"gltf/walk.gltf", "gltf/sparse.gltf", "gltf/strips.gltf", "gltf/quad.glb"});
+    seeds.insert(seeds.end(), {"gltf/walk.gltf", "gltf/sparse.gltf", "gltf/strips.gltf", "gltf/quad.glb",
+                               "gltf/attributes.gltf"});
 #endif
     for (const char* seed : seeds) {
         INFO(seed);

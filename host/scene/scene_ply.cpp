@@ -397,7 +397,12 @@ private:
         check_room(r, e);
         std::vector<PlyVertexProperty> described;
         for (const Property& p : e.properties) described.push_back({p.name, p.list, p.list ? 0 : integer_max(p.type)});
-        PlyAttributePlan plan = plan_ply_attributes(described, e.count, name_);
+        // Without faces the file is refused as "no triangles": no attribute is kept for it.
+        bool faces = false;
+        for (const Element& f : elements_) faces = faces || (f.name == "face" && f.count > 0);
+        PlyAttributePlan plan;
+        if (faces) plan = plan_ply_attributes(described, e.count, name_);
+        else plan.slots.resize(e.properties.size());
         attributes_ = std::move(plan.attributes);
         mesh_.positions.resize(e.count * 3);
         float* out = mesh_.positions.data();
