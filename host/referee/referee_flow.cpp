@@ -123,8 +123,9 @@ FlowReport judge_flow(const Scene& scene, const HostVisibility& a, const Camera&
             // within flow_px of a pixel's edge, either pixel).
             if (sure) ++report.valid;
             const double fx = raster.x - (x + 0.5), fy = raster.y - (y + 0.5);
-            const double off = std::max(std::fabs(got[0] - fx), std::fabs(got[1] - fy));
-            if (!(off <= tol.flow_px)) {
+            const double ox = std::fabs(got[0] - fx), oy = std::fabs(got[1] - fy);
+            const double off = std::max(ox, oy);
+            if (!(ox <= tol.flow_px && oy <= tol.flow_px)) { // NaN fails too
                 std::ostringstream s;
                 s << "flow (" << got[0] << ", " << got[1] << ") where the referee finds (" << fx << ", " << fy << ")";
                 error(report.flow_errors, x, y, s.str());
