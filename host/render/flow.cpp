@@ -68,8 +68,10 @@ PlacedTriangles place_visible(const Scene& scene, const VisibilityBuffer& a, con
     PlacedTriangles out;
     out.keys = a.read_keys();
     std::vector<std::uint32_t> ids;
+    std::uint32_t last = CLVIS_BACKGROUND_ID; // neighbouring samples mostly share a triangle
     for (std::uint64_t key : out.keys)
-        if (std::uint32_t(key) < scene.triangle_count()) ids.push_back(std::uint32_t(key));
+        if (std::uint32_t(key) < scene.triangle_count() && std::uint32_t(key) != last)
+            ids.push_back(last = std::uint32_t(key));
     std::sort(ids.begin(), ids.end());
     ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
     out.count = std::uint32_t(ids.size());
@@ -95,12 +97,16 @@ PlacedTriangles place_visible(const Scene& scene, const VisibilityBuffer& a, con
                 throw Error(Error::Kind::InvalidArgument,
                             "mesh '" + data.name + "': a transformed vertex overflows float32");
     }
+    std::uint32_t from = CLVIS_BACKGROUND_ID, to = CLVIS_BACKGROUND_ID;
     for (std::uint64_t& key : out.keys) {
         std::uint32_t id = std::uint32_t(key);
-        std::uint32_t renumbered = CLVIS_BACKGROUND_ID;
-        if (id < scene.triangle_count())
-            renumbered = std::uint32_t(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin());
-        key = (key & ~std::uint64_t(0xFFFFFFFFu)) | renumbered;
+        if (id != from) {
+            from = id;
+            to = id < scene.triangle_count()
+                     ? std::uint32_t(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin())
+                     : CLVIS_BACKGROUND_ID;
+        }
+        key = (key & ~std::uint64_t(0xFFFFFFFFu)) | to;
     }
     return out;
 }
