@@ -4,6 +4,7 @@
 #include "options.hpp"
 #include "output_plan.hpp"
 #include "render_ao.hpp"
+#include "render_flow.hpp"
 #include "render_report.hpp"
 #include "render_spread.hpp"
 
@@ -33,6 +34,9 @@ struct RenderArgs {
     std::string bary, normals, position; ///< attributes resolved from the buffer (EXR)
     std::string visible;                 ///< the visible set: ids, one per line, ascending
     std::string views;                   ///< a views file: many cameras, one batch
+    std::string flow;                    ///< --flow: the flow from each view to the next
+    std::vector<ItemTransforms> items;   ///< the views file's item transforms, per view
+    Scene* moving = nullptr;             ///< the loaded scene (moved between views with items)
     int ao = 0; ///< rays per pixel of the ambient-occlusion image; 0: a shaded image
     int repeat = 0;
     bool json = false, quiet = false;
@@ -167,7 +171,7 @@ PathResult run_path(Renderer& renderer, const std::vector<Camera>& cameras, cons
     if (batch) views = VisibilityBatch(renderer.device(), int(cameras.size()), width, height);
     else vis = VisibilityBuffer(renderer.device(), width, height, a.options.samples);
     auto frame = [&] {
-        if (batch) render_views(renderer, cameras, path, views);
+        if (batch) render_views(renderer, *a.moving, cameras, a.items, path, views);
         else renderer.render(cameras[0], path, vis);
     };
     if (a.repeat > 0 || a.timings) { // warm-up: first launches compile
@@ -197,6 +201,8 @@ PathResult run_path(Renderer& renderer, const std::vector<Camera>& cameras, cons
         write_outputs(renderer, views.view(v), cameras[std::size_t(v)], a,
                       [&](const std::string& f) { return plan.temporary(output_name(f, path, several, v, last)); },
                       triangles, host, false);
+    write_flow(renderer, views, cameras, a.items, a.flow,
+               [&](const std::string& f) { return plan.temporary(f); });
     return r;
 }
 
@@ -235,6 +241,7 @@ std::vector<Path> check_flags(const RenderArgs& a)
                 refuse(flag + ": attributes are resolved at one sample per pixel; --samples " +
                        std::to_string(a.options.samples) + " is for --ids, --depth, --image and --visible");
     if (a.path == "all" && !a.views.empty()) refuse("--views: renders one path (--path raster, ray or brute), not all");
+    if (a.spread.any() && !a.flow.empty()) refuse("--flow: for one device in one process");
     if (a.spread.any()) {
         for (const auto& [flag, file, kind] : output_flags(a))
             if (!file.empty() && kind != OutputKind::Ids && kind != OutputKind::Depth && flag != "--image")
@@ -257,6 +264,7 @@ void render_command(RenderArgs a)
     // --distribute: every rank checks every name here; render_dist.cpp plans its own views' files.
     OutputPlan plan;
     plan_outputs(plan, a, paths, std::max(int(cameras.size()), 1));
+    plan_flow(plan, a.flow, int(cameras.size()), !a.views.empty());
     double load_ms = 0;
     SceneFile file = a.scene.load(&load_ms);
     View view = resolve_view(a.camera, file, a.scene.scene_file());
@@ -269,6 +277,11 @@ void render_command(RenderArgs a)
     const Camera camera = cameras.empty() ? view.camera : cameras[0];
     if (cameras.empty()) cameras.push_back(camera);
     if (file.scene.empty()) throw Error(Error::Kind::InvalidArgument, "the scene holds no triangles");
+    check_view_items(vf, file.scene); // a views file's "items": each names an item of the scene
+    if (vf.moves() && a.spread.any())
+        throw Error(Error::Kind::InvalidArgument, a.views + ": views that move items render on one device in one process");
+    a.items = vf.items;
+    a.moving = &file.scene;
     if (a.spread.any()) {
         SpreadRequest request = spread_request(a);
         request.file = &file;
@@ -383,6 +396,9 @@ void add_render_command(CLI::App& app)
     cmd->add_option("--position", args->position, "write world positions x, y, z (.exr; background NaN)");
     cmd->add_option("--views", args->views,
                     "render every camera of a views file (JSON) in one batch; {view} in output names is the view");
+    cmd->add_option("--flow", args->flow,
+                    "with --views: write the flow from each view to the next (.exr: flow.x, flow.y, flow.valid, "
+                    "flow.occluded); the name must contain {view}, the first view of each pair");
     cmd->add_option("--visible", args->visible, "write the visible triangle ids, one per line, ascending");
     cmd->add_option("--image", args->image, "write a shaded colour image (.png, .exr, .tif, .jpg, ...)");
     add_choice(*cmd, "--shade", args->shade, "colour image: lambert, depth or ids");

@@ -74,8 +74,15 @@ public:
         for (std::size_t i = 0; i < views.size(); ++i) {
             std::string where = "views[" + std::to_string(i) + "]";
             CameraSpec spec;
+            ItemTransforms moved; // "items": the view's item transforms (flow between views)
+            Json fields = views[i];
+            if (fields.is_object() && fields.contains("items")) {
+                moved = items(fields["items"], where + ".items");
+                fields.erase("items");
+            }
+            out.items.push_back(std::move(moved));
             try {
-                spec = camera(views[i]);
+                spec = camera(fields);
             } catch (const Error& e) {
                 // camera() names its fields "camera.*": here they are "views[i].*".
                 std::string msg = e.what(), prefix = path_ + ": camera";
@@ -172,6 +179,21 @@ private:
             std::size_t prototype = scene.add_prototype(std::move(mesh));
             for (const Mat4& t : transforms) scene.add_instance(prototype, t);
         }
+    }
+
+    /// A view's "items": {"K": M, ...}, K an item index in decimal, M an affine 4x4 row by row.
+    ItemTransforms items(const Json& j, const std::string& where) const
+    {
+        if (!j.is_object()) bad(where, "expected an object {\"ITEM\": [16 numbers], ...}");
+        ItemTransforms out;
+        for (auto it = j.begin(); it != j.end(); ++it) {
+            const std::string& key = it.key();
+            std::string at = where + "." + key;
+            if (key.empty() || key.size() > 9 || key.find_first_not_of("0123456789") != std::string::npos)
+                bad(at, "an item index (a non-negative integer) is expected as the key");
+            out[std::size_t(std::stoul(key))] = matrix(it.value(), at);
+        }
+        return out;
     }
 
     Mat4 matrix(const Json& j, const std::string& where) const
@@ -277,7 +299,26 @@ SceneFile load_scene_file(const std::string& path)
 ViewsFile load_views_file(const std::string& path)
 {
     std::string text = detail::read_file(path);
-    return detail::parse_views_file(text, path);
+    ViewsFile out = detail::parse_views_file(text, path);
+    out.path = path;
+    return out;
+}
+
+bool ViewsFile::moves() const
+{
+    for (const ItemTransforms& t : items)
+        if (!t.empty()) return true;
+    return false;
+}
+
+void check_view_items(const ViewsFile& views, const Scene& scene)
+{
+    for (std::size_t v = 0; v < views.items.size(); ++v)
+        for (const auto& [item, transform] : views.items[v])
+            if (item >= scene.meshes().size())
+                throw Error(Error::Kind::InvalidArgument,
+                            views.path + ": views[" + std::to_string(v) + "].items." + std::to_string(item) +
+                                ": no such item (the scene has " + std::to_string(scene.meshes().size()) + ")");
 }
 
 std::string view_file_name(const std::string& pattern, int view, int last)

@@ -7,6 +7,7 @@
 
 #include <clvis/camera.hpp>
 #include <clvis/renderer.hpp>
+#include <clvis/views_file.hpp>
 #include <clvis/visibility.hpp>
 
 
@@ -47,5 +48,14 @@ private:
 /// times the whole batch: frame_ms from the first enqueue to the end, each stage's kernel times
 /// summed over the views.
 void render_views(Renderer& renderer, const std::vector<Camera>& cameras, Path path, VisibilityBatch& target);
+
+/// The same for views whose items move (a views file's "items"): view v is rendered with
+/// `items[v]`'s transforms replacing `scene`'s, `scene` being the Renderer's scene as it was made or
+/// last updated. Consecutive views with the same transforms are one batch as above; between two
+/// such runs `scene` is changed and the Renderer updated (Renderer::update). Both are left with
+/// `scene`'s transforms as given. Without any item moved this is render_views above, at its cost.
+/// Error(InvalidArgument) when items.size() differs from the camera count or names no item.
+void render_views(Renderer& renderer, Scene& scene, const std::vector<Camera>& cameras,
+                  const std::vector<ItemTransforms>& items, Path path, VisibilityBatch& target);
 
 } // namespace clvis

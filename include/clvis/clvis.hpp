@@ -9,6 +9,7 @@
 #include <clvis/camera_spec.hpp>
 #include <clvis/device.hpp>
 #include <clvis/error.hpp>
+#include <clvis/flow.hpp>
 #include <clvis/host_visibility.hpp>
 #include <clvis/image.hpp>
 #include <clvis/math.hpp>
@@ -19,6 +20,7 @@
 #include <clvis/referee.hpp>
 #include <clvis/render_options.hpp>
 #include <clvis/referee_attributes.hpp>
+#include <clvis/referee_flow.hpp>
 #include <clvis/renderer.hpp>
 #include <clvis/scene.hpp>
 #include <clvis/scene_io.hpp>

@@ -128,6 +128,7 @@ void bind_referee(nb::module_& m);
 /// Ray queries (queries.cpp) and visibility outputs (outputs.cpp) as Renderer methods.
 void bind_ray_queries(nb::class_<PyRenderer>& r);
 void bind_outputs(nb::class_<PyRenderer>& r);
+void bind_flow(nb::class_<PyRenderer>& r); // flow.cpp: Renderer.flow
 void bind_image(nb::module_& m);
 /// clvis.RayQuery (ray_query.cpp) and clvis.MultiDeviceRenderer (multi_device.cpp).
 void bind_ray_query(nb::module_& m);

@@ -379,6 +379,7 @@ void bind_render(nb::module_& m)
             "has yet.");
     bind_ray_queries(r);
     bind_outputs(r);
+    bind_flow(r);
 }
 
 } // namespace clvis::python
