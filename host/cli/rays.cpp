@@ -112,6 +112,7 @@ void rays_command(const RaysArgs& a)
                          {"triangles", file.scene.triangle_count()}, {"device", device.info().name},
                          {"load_ms", load_ms},         {"build_ms", build_ms},       {"device_ms", stats.device_ms},
                          {"wall_ms", stats.wall_ms},   {"batches", stats.batches},   {"mrays_per_s", mrays}};
+        if (kind == RayQueryKind::All) j["max_hits"] = a.max_hits;
         std::cout << j.dump(2) << "\n";
     }
 }
