@@ -8,6 +8,7 @@
 #include "ray_oracle.hpp"
 #include "ray_query_check.hpp"
 
+#include <CL/cl.h>
 #include <clvis/clvis.hpp>
 #include <clvis/procedural.hpp>
 #include <clvis/ray_query.hpp>
@@ -293,7 +294,8 @@ TEST_CASE("all hits of a scene with instances equal its expansion's", "[device][
     check_all(flat, rays, false);
 }
 
-TEST_CASE("all hits refuse a bad max_hits and split batches answer as one", "[device][ray_query_all]")
+TEST_CASE("all hits refuse a bad max_hits; split batches, SoA and device rays answer as one batch",
+          "[device][ray_query_all]")
 {
     Scene s = scene_of(make_uv_sphere(400));
     Renderer renderer(Device::open(), s);
@@ -309,4 +311,26 @@ TEST_CASE("all hits refuse a bad max_hits and split batches answer as one", "[de
     CHECK(a.counts == b.counts);
     Lists c = all_hits(q, rays, 5, true), d = all_hits(small, rays, 5, true);
     require_same(c, d);
+    // rays as SoA planes on the host, and in the caller's cl_mem (SoA, a stride past the count)
+    std::size_t stride = rays.size() + 3;
+    std::vector<float> planes(8 * stride, 0.0f);
+    for (std::size_t i = 0; i < rays.size(); ++i)
+        for (std::size_t f = 0; f < 8; ++f) planes[f * stride + i] = (&rays[i].ox)[f];
+    const float* p = planes.data();
+    RaySoA soa{p, p + stride, p + 2 * stride, p + 3 * stride, p + 4 * stride, p + 5 * stride, p + 6 * stride, p + 7 * stride};
+    Lists e;
+    e.hits.resize(rays.size() * 5);
+    e.counts.resize(rays.size());
+    small.all({soa, rays.size()}, 5, e.hits.data(), e.counts.data());
+    require_same(c, e);
+    CHECK(c.counts == e.counts);
+    cl_int err = 0;
+    cl_mem in = clCreateBuffer(renderer.device().context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, planes.size() * 4,
+                               planes.data(), &err);
+    REQUIRE(err == CL_SUCCESS);
+    Lists f;
+    f.hits.resize(rays.size() * 5);
+    small.all(DeviceRays{in, RayLayout::SoA, rays.size(), stride}, 5, f.hits.data());
+    clReleaseMemObject(in);
+    require_same(c, f);
 }
