@@ -331,8 +331,9 @@ void bind_ray_query(nb::module_& m)
              "the scene's diagonal). (H, W) float32 unoccluded fraction in [0, 1], background 1, into `out`.")
         .def("ambient_occlusion_rays", &ambient_occlusion_rays, nb::arg("visibility"), nb::kw_only(), nb::arg("rays") = 8,
              nb::arg("distance") = 0.0, nb::arg("seed") = 1,
-             "The rays ambient_occlusion traces, as an (H * W * rays, 8) float32 array of records, pixels in\n"
-             "row order (a background pixel's rays have a zero direction: invalid, answered as misses).")
+             "The rays of ambient_occlusion, as an (H * W * rays, 8) float32 array of records, pixels in\n"
+             "row order (a background pixel's rays, which ambient_occlusion does not trace, have a zero\n"
+             "direction: invalid, answered as misses).")
         .def("shadows", &shadows,
              nb::sig("def shadows(self, visibility: Visibility, light: tuple[float, float, float], *, "
                      "out: numpy.typing.NDArray[numpy.float32] | None = None) -> numpy.typing.NDArray[numpy.float32]"),
