@@ -2,7 +2,10 @@
 // ambient occlusion rays from visibility buffers (the bunny, a 1M-triangle sphere; 8 per pixel at
 // 960x540) and uniform random rays through a 1M-triangle soup. clvis answers rays resident on the
 // device (RayQuery on cl_mem); Embree traces the same rays from host memory with rtcIntersect1 /
-// rtcOccluded1 and their 16-wide forms. Writes bench-rays.json and bench-rays.csv.
+// rtcOccluded1 and their 16-wide forms. Also clvis's all hits (the 4 nearest hits and the count of
+// each ray, RayQuery::all: host arrays in and out, transfers included), which Embree's queries do not
+// answer; no Open3D workload runs here (its list_intersections is not compared). Writes
+// bench-rays.json and bench-rays.csv.
 #include "bench.hpp"
 #include "bench_stats.hpp"
 #include "bench_views.hpp"
@@ -33,6 +36,8 @@ namespace fs = std::filesystem;
 
 /// Issue #17's targets: clvis time / Embree single-ray time, per query.
 constexpr double target_over_embree1 = 1.0;
+/// Hits kept per ray by the all-hits timing.
+constexpr int all_hits_k = 4;
 
 struct Workload {
     std::string name;
@@ -114,6 +119,22 @@ Timing time_clvis(RayQuery& q, const Device& device, const std::vector<RayRecord
     return t;
 }
 
+/// clvis all hits (all_hits_k per ray and the counts) from host arrays into host arrays (its only
+/// form): one warm-up, then `repeats` timed calls, wall time with the transfers.
+Timing time_clvis_all(RayQuery& q, const std::vector<RayRecord>& rays, int repeats)
+{
+    Timing t;
+    t.renderer = "clvis-all" + std::to_string(all_hits_k);
+    t.rays = rays.size();
+    std::vector<HitRecord> hits(rays.size() * std::size_t(all_hits_k));
+    std::vector<std::uint32_t> counts(rays.size());
+    for (int r = 0; r <= repeats; ++r) {
+        RayQueryStats s = q.all({rays.data(), rays.size()}, all_hits_k, hits.data(), counts.data());
+        if (r > 0) t.ms.push_back(s.wall_ms);
+    }
+    return t;
+}
+
 std::vector<Timing> run_workload(const Device& device, const Workload& w, int repeats, int threads)
 {
     std::vector<Timing> out;
@@ -124,6 +145,7 @@ std::vector<Timing> run_workload(const Device& device, const Workload& w, int re
         RayQuery q(renderer);
         out.push_back(time_clvis(q, device, w.rays, RayQueryKind::Closest, repeats, hits, flags));
         out.push_back(time_clvis(q, device, w.rays, RayQueryKind::Any, repeats, hits, flags));
+        out.push_back(time_clvis_all(q, w.rays, repeats));
     }
     std::optional<EmbreeReference> embree;
     std::string error;

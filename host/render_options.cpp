@@ -96,7 +96,8 @@ template <>
 struct Names<RayQueryKind> {
     static constexpr const char* option = "query"; // clvis rays --query
     static constexpr std::pair<RayQueryKind, const char*> values[] = {
-        {RayQueryKind::Closest, "closest"}, {RayQueryKind::Any, "any"}, {RayQueryKind::Count, "count"}};
+        {RayQueryKind::Closest, "closest"}, {RayQueryKind::Any, "any"}, {RayQueryKind::Count, "count"},
+        {RayQueryKind::All, "all"}};
 };
 
 template <class E>

@@ -3,7 +3,11 @@
    hash of seed, pixel and sample, so the same call gives the same rays) and shadow rays toward a
    point light. Each starts at the pixel's visible point, moved off the surface along the normal
    on the camera's side. A background pixel gets a ray of zero direction, which the queries answer
-   as a miss. Launched by host/query/ray_generate.cpp; writes AoS rays (shared/ray_query.h). */
+   as a miss. With a list of covered pixels (`covered`, not null) the rays are made for the pixels
+   it lists, entries first_pixel .. first_pixel + pixels - 1, so no ray is made for the background;
+   without one for pixels first_pixel .. first_pixel + pixels - 1 of the buffer. A ray depends on
+   its pixel and its number only, so both give the same rays. Launched by
+   host/query/ray_generate.cpp; writes AoS rays (shared/ray_query.h). */
 #include "shared/camera.h"
 #include "shared/ray_query.h"
 #include "shared/visibility.h"
@@ -75,15 +79,19 @@ static void store_ray(__global float* rays, size_t i, clvis_vec3 o, float tmin, 
     for (int k = 0; k < CLVIS_RAY_FIELDS; ++k) rays[i * CLVIS_RAY_FIELDS + (size_t)k] = r[k];
 }
 
-/* Ray k of pixel first_pixel + g / per_pixel: a cosine-weighted direction (Malley's method) in
+/* The pixel of entry q of the launch: covered[first + q], or first + q without a list. */
+static uint pixel_of(__global const uint* covered, uint first, uint q) { return covered ? covered[first + q] : first + q; }
+
+/* Ray k of pixel entry g / per_pixel: a cosine-weighted direction (Malley's method) in
    the frame of the normal (Duff et al. 2017's branchless orthonormal basis), length `distance`. */
 __kernel void ray_generate_ao(__global const ulong* keys, clvis_camera_gpu cam, __global const float* positions,
                               __global const uint* indices, uint first_pixel, uint pixels, uint per_pixel,
-                              float offset, __global float* rays, float distance, uint seed_lo, uint seed_hi)
+                              float offset, __global float* rays, float distance, uint seed_lo, uint seed_hi,
+                              __global const uint* covered)
 {
     uint g = (uint)get_global_id(0);
     if (g >= pixels * per_pixel) return;
-    uint q = g / per_pixel, pixel = first_pixel + q, k = g - q * per_pixel; /* no `%`: see surface_point */
+    uint q = g / per_pixel, pixel = pixel_of(covered, first_pixel, q), k = g - q * per_pixel; /* no `%`: see surface_point */
     clvis_vec3 p, n, zero = v3(0.0f, 0.0f, 0.0f);
     if (!surface_point(keys, cam, positions, indices, pixel, offset, &p, &n)) {
         store_ray(rays, g, zero, 0.0f, zero, 0.0f);
@@ -101,15 +109,16 @@ __kernel void ray_generate_ao(__global const ulong* keys, clvis_camera_gpu cam, 
     store_ray(rays, g, p, 0.0f, v3_scale(dir, distance), 1.0f);
 }
 
-/* The shadow ray of pixel first_pixel + g: from the visible point to the light, t in [0, 1]. */
+/* The shadow ray of pixel entry g: from the visible point to the light, t in [0, 1]. */
 __kernel void ray_generate_shadow(__global const ulong* keys, clvis_camera_gpu cam, __global const float* positions,
                                   __global const uint* indices, uint first_pixel, uint pixels, uint per_pixel,
-                                  float offset, __global float* rays, float light_x, float light_y, float light_z)
+                                  float offset, __global float* rays, float light_x, float light_y, float light_z,
+                                  __global const uint* covered)
 {
     uint g = (uint)get_global_id(0);
     if (g >= pixels * per_pixel) return;
     clvis_vec3 p, n, zero = v3(0.0f, 0.0f, 0.0f);
-    if (!surface_point(keys, cam, positions, indices, first_pixel + g, offset, &p, &n)) {
+    if (!surface_point(keys, cam, positions, indices, pixel_of(covered, first_pixel, g), offset, &p, &n)) {
         store_ray(rays, g, zero, 0.0f, zero, 0.0f);
         return;
     }

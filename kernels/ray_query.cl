@@ -1,5 +1,5 @@
-/* Answers ray queries for any batch of rays (closest hit, any hit, hit count; CONVENTIONS.md "Ray
-   queries"), a run of rays per work-item (CLVIS_QUERY_LANES of them walked interleaved), through
+/* Answers ray queries for any batch of rays (closest hit, any hit, hit count, all hits; CONVENTIONS.md
+   "Ray queries", "Depth layers"), a run of rays per work-item (CLVIS_QUERY_LANES of them walked interleaved), through
    the 4-wide BVH that ray_trace.cl reads (shared/bvh.h);
    ray_query_brute tests every triangle in id order instead, the reference the BVH walk must
    equal. Rays and results live in buffers of either layout (shared/ray_query.h). Launched by
@@ -20,6 +20,14 @@
 #ifndef CLVIS_QUERY
 #error "CLVIS_QUERY must be defined (shared/ray_query.h)"
 #endif
+#if CLVIS_QUERY == CLVIS_QUERY_ALL
+#ifndef CLVIS_MAX_HITS
+#error "CLVIS_MAX_HITS must be defined for all hits (shared/ray_query.h)"
+#endif
+/* CLVIS_ALL_COUNTS: the number of all hits is asked for, so no hit may be pruned: the walk
+   visits every box the ray meets in [tmin, tmax]. Without it the walk prunes against the K-th
+   nearest hit once the list is full. */
+#endif
 /* CLVIS_RAY_STACK: entries, at least 3 x the 4-wide tree's depth + 1 (each visited node leaves
    at most three children besides the one taken; shared/bvh_walk.h checks it is defined). */
 
@@ -34,7 +42,12 @@ typedef struct answer {
     float t;      /* closest: nearest hit; any, count: tmax */
     uint id;      /* closest: its id; any: 0 or 1 */
     float u, v;   /* closest: barycentrics */
-    uint count;   /* count: crossings */
+    uint count;   /* count: crossings; all: hits (edges inclusive) */
+#if CLVIS_QUERY == CLVIS_QUERY_ALL
+    uint n, k;    /* hits kept, at most k (max_hits) */
+    float ht[CLVIS_MAX_HITS], hu[CLVIS_MAX_HITS], hv[CLVIS_MAX_HITS]; /* kept in order of (t, id) */
+    uint hid[CLVIS_MAX_HITS];
+#endif
 } answer;
 
 static clvis_ray_rec load_ray(__global const float* rays, int layout, ulong stride, ulong i)
@@ -47,30 +60,86 @@ static clvis_ray_rec load_ray(__global const float* rays, int layout, ulong stri
     return r;
 }
 
-static void store_answer(__global out_t* out, int layout, ulong stride, ulong i, answer a)
+/* All hits: ray i's k hits at records i k .. i k + k - 1 (AoS only), misses after the hits kept;
+   its count at counts[i] when asked (counts not null). */
+static void store_answer(__global out_t* out, int layout, ulong stride, ulong i, const answer* a,
+                         __global uint* counts)
 {
-#if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
-    uint w[CLVIS_HIT_FIELDS] = {as_uint(a.t), a.id, as_uint(a.u), as_uint(a.v)};
+#if CLVIS_QUERY == CLVIS_QUERY_ALL
+    (void)layout;
+    (void)stride;
+    __global uint* o = out + i * a->k * CLVIS_HIT_FIELDS;
+    for (uint j = 0; j < a->k; ++j, o += CLVIS_HIT_FIELDS) {
+        int kept = j < a->n;
+        o[0] = as_uint(kept ? a->ht[j] : CLVIS_INFINITY);
+        o[1] = kept ? a->hid[j] : CLVIS_BACKGROUND_ID;
+        o[2] = as_uint(kept ? a->hu[j] : 0.0f);
+        o[3] = as_uint(kept ? a->hv[j] : 0.0f);
+    }
+    if (counts) counts[i] = a->count;
+#elif CLVIS_QUERY == CLVIS_QUERY_CLOSEST
+    (void)counts;
+    uint w[CLVIS_HIT_FIELDS] = {as_uint(a->t), a->id, as_uint(a->u), as_uint(a->v)};
     for (int k = 0; k < CLVIS_HIT_FIELDS; ++k) {
         if (layout == CLVIS_LAYOUT_AOS) out[i * CLVIS_HIT_FIELDS + (ulong)k] = w[k];
         else out[(ulong)k * stride + i] = w[k];
     }
 #elif CLVIS_QUERY == CLVIS_QUERY_ANY
-    out[i] = (uchar)a.id;
+    (void)counts;
+    out[i] = (uchar)a->id;
 #else
-    out[i] = a.count;
+    (void)counts;
+    out[i] = a->count;
 #endif
 }
 
-static answer start_answer(clvis_ray_rec r)
+static void start_answer(clvis_ray_rec r, uint max_hits, answer* a)
 {
-    answer a = {CLVIS_INFINITY, CLVIS_BACKGROUND_ID, 0.0f, 0.0f, 0u};
-#if CLVIS_QUERY != CLVIS_QUERY_CLOSEST
-    a.t = r.tmax;
-    a.id = 0u;
+    a->t = CLVIS_INFINITY;
+    a->id = CLVIS_BACKGROUND_ID;
+    a->u = a->v = 0.0f;
+    a->count = 0u;
+#if CLVIS_QUERY == CLVIS_QUERY_ALL
+    a->n = 0u;
+    a->k = max_hits;
+#else
+    (void)max_hits;
 #endif
-    return a;
+#if CLVIS_QUERY == CLVIS_QUERY_ANY || CLVIS_QUERY == CLVIS_QUERY_COUNT
+    a->t = r.tmax;
+    a->id = 0u;
+#endif
 }
+
+#if CLVIS_QUERY == CLVIS_QUERY_ALL
+/* Whether hit (t, id) comes after entry j of the list: keys order by t, then id. */
+static inline int after_entry(const answer* a, uint j, float t, uint id)
+{
+    return t > a->ht[j] || (t == a->ht[j] && id > a->hid[j]);
+}
+
+/* Inserts hit (t, id) in order, the farthest dropped when the list is full. */
+static void insert_hit(answer* a, float t, uint id, clvis_tri_2d p, float det)
+{
+    uint n = a->n;
+    if (n == a->k) {
+        if (after_entry(a, n - 1u, t, id)) return;
+        --n;
+    }
+    uint j = n;
+    for (; j > 0u && !after_entry(a, j - 1u, t, id); --j) {
+        a->ht[j] = a->ht[j - 1u];
+        a->hid[j] = a->hid[j - 1u];
+        a->hu[j] = a->hu[j - 1u];
+        a->hv[j] = a->hv[j - 1u];
+    }
+    a->ht[j] = t;
+    a->hid[j] = id;
+    a->hu[j] = p.v / det;
+    a->hv[j] = p.w / det;
+    a->n = n + 1u;
+}
+#endif
 
 /* Tests one triangle; returns 1 when an any-hit query is answered. */
 static int test_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c, uint id, float tmin,
@@ -90,6 +159,14 @@ static int test_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_ve
         ans->v = p.w / det;
     }
     return 0;
+#elif CLVIS_QUERY == CLVIS_QUERY_ALL
+    /* Edges inclusive, the closest hit's test, u and v: with max_hits 1 the closest hit's bits. */
+    clvis_tri_2d p;
+    float det;
+    if (!clvis_intersect_triangle_plane(s, a, b, c, tmin, tmax, &t, &p, &det)) return 0;
+    ans->count += 1u;
+    insert_hit(ans, t + 0.0f, id, p, det);
+    return 0;
 #elif CLVIS_QUERY == CLVIS_QUERY_ANY
     if (clvis_intersect_triangle(s, a, b, c, tmin, tmax, CLVIS_CULL_NONE, &t)) {
         ans->id = 1u;
@@ -102,11 +179,16 @@ static int test_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_ve
 #endif
 }
 
-/* The far end of the interval that a box must reach: the nearest hit so far for closest. */
+/* The far end of the interval that a box must reach: the nearest hit so far for closest, the
+   K-th kept one for all hits once K are kept (unless all are counted). Inclusive: a hit at that t
+   with a lower id still enters. */
 static float query_far(clvis_ray_rec r, const answer* a)
 {
 #if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
     return a->t < r.tmax ? a->t : r.tmax;
+#elif CLVIS_QUERY == CLVIS_QUERY_ALL && !defined(CLVIS_ALL_COUNTS)
+    float kth = a->n == a->k ? a->ht[a->k - 1u] : CLVIS_INFINITY;
+    return kth < r.tmax ? kth : r.tmax;
 #else
     return r.tmax;
 #endif
@@ -196,6 +278,13 @@ static int4 hits_boxes(__global const clvis_bvh4_node* n, __global const clvis_i
     return (t0 <= t1) & (t0 <= (float4)(far_t * CLVIS_IZE_SCALE));
 }
 
+/* Whether the interval shrinks as hits are found (the walk orders children and drops far ones). */
+#if CLVIS_QUERY == CLVIS_QUERY_CLOSEST || (CLVIS_QUERY == CLVIS_QUERY_ALL && !defined(CLVIS_ALL_COUNTS))
+#define QUERY_PRUNES 1
+#else
+#define QUERY_PRUNES 0
+#endif
+
 /* One ray and its answer so far: the walk's context (CLVIS_WALK_CTX). */
 typedef struct walker {
     clvis_ray_rec r;
@@ -205,15 +294,16 @@ typedef struct walker {
     uint ray;   /* its index in the batch */
 } walker;
 
-/* The node test: the children the ray meets within its interval. Closest hits order them by entry
-   distance (and drop a popped one that starts past the nearest hit so far); any hit and counts
-   keep slot order (keys 0): their interval never shrinks, and any hit ends the walk at once. */
+/* The node test: the children the ray meets within its interval. Closest hits (and all hits
+   without counts) order them by entry distance (and drop a popped one that starts past the
+   nearest hit so far, the K-th); any hit and counts keep slot order (keys 0): their interval never
+   shrinks, and any hit ends the walk at once. */
 static inline CLVIS_ALWAYS_INLINE int query_children(walker* w, __global const clvis_bvh4_node* nd,
                                                      __global const clvis_instance* xi, float keys[4])
 {
     float4 e4;
     int4 hit = hits_boxes(nd, xi, w->br, w->r.tmin, query_far(w->r, &w->a), &e4);
-#if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
+#if QUERY_PRUNES
     vstore4(e4, 0, keys);
 #else
     vstore4((float4)(0.0f), 0, keys);
@@ -223,7 +313,7 @@ static inline CLVIS_ALWAYS_INLINE int query_children(walker* w, __global const c
 
 #define CLVIS_WALK_CTX walker
 #define CLVIS_WALK_CHILDREN(w, v, nd, xi, keys) query_children(w, nd, xi, keys)
-#if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
+#if QUERY_PRUNES
 #define CLVIS_WALK_KEY_SKIP(w, v, key) ((key) > query_far((w)->r, &(w)->a) * CLVIS_IZE_SCALE)
 #else
 #define CLVIS_WALK_KEY_SKIP(w, v, key) 0
@@ -240,10 +330,10 @@ static inline CLVIS_ALWAYS_INLINE int query_children(walker* w, __global const c
 
 /* Starts ray i's walk in a lane (at once answered when invalid or the tree is empty). */
 static void walk_start(__global const float* rays, int layout, ulong stride, ulong offset, uint i, uint node_count,
-                       __global uint* invalid, walker* w, clvis_walk* walk)
+                       __global uint* invalid, uint max_hits, walker* w, clvis_walk* walk)
 {
     w->r = load_ray(rays, layout, stride, offset + i);
-    w->a = start_answer(w->r);
+    start_answer(w->r, max_hits, &w->a);
     w->ray = i;
     int valid = clvis_ray_valid(w->r);
     if (!valid) atomic_inc(invalid);
@@ -261,15 +351,24 @@ static void walk_start(__global const float* rays, int layout, ulong stride, ulo
 
 /* Work-item g answers rays [g * per_item, (g + 1) * per_item) of the batch, CLVIS_QUERY_LANES at a
    time: a lane whose ray is answered stores it and takes the next. `instances` only with
-   CLVIS_INSTANCES: the flat build's arguments (and code) are as before. */
+   CLVIS_INSTANCES: the flat build's arguments (and code) are as before. All hits only: max_hits (the
+   list's length, 1 .. CLVIS_MAX_HITS) and counts (null: not asked), both kernels' last arguments. */
 __kernel void ray_query(__global const clvis_bvh4_node* nodes, uint node_count, __global const clvis_bvh_tri* tris,
 #ifdef CLVIS_INSTANCES
                         __global const clvis_instance* instances,
 #endif
                         __global const float* rays, int ray_layout, ulong ray_stride, ulong ray_offset, uint count,
                         uint per_item, __global out_t* out, int out_layout, ulong out_stride, ulong out_offset,
-                        __global uint* invalid)
+                        __global uint* invalid
+#if CLVIS_QUERY == CLVIS_QUERY_ALL
+                        , uint max_hits, __global uint* counts
+#endif
+                        )
 {
+#if CLVIS_QUERY != CLVIS_QUERY_ALL
+    const uint max_hits = 1u;
+    __global uint* counts = 0;
+#endif
 #ifndef CLVIS_INSTANCES
     __global const clvis_instance* instances = 0;
 #endif
@@ -286,7 +385,7 @@ __kernel void ray_query(__global const clvis_bvh4_node* nodes, uint node_count, 
         walk[j].node = CLVIS_WALK_DONE;
         w[j].ray = end; /* none */
         if (next < end) {
-            walk_start(rays, ray_layout, ray_stride, ray_offset, next++, node_count, invalid, &w[j], &walk[j]);
+            walk_start(rays, ray_layout, ray_stride, ray_offset, next++, node_count, invalid, max_hits, &w[j], &walk[j]);
             ++busy;
         }
     }
@@ -296,9 +395,9 @@ __kernel void ray_query(__global const clvis_bvh4_node* nodes, uint node_count, 
             if (walk[j].node != CLVIS_WALK_DONE)
                 clvis_walk_step(&w[j], 0, QUERY_TWO_LEVEL, nodes, tris, instances, &walk[j], &st[j]);
             if (walk[j].node != CLVIS_WALK_DONE) continue;
-            store_answer(out, out_layout, out_stride, out_offset + w[j].ray, w[j].a);
+            store_answer(out, out_layout, out_stride, out_offset + w[j].ray, &w[j].a, counts);
             if (next < end) {
-                walk_start(rays, ray_layout, ray_stride, ray_offset, next++, node_count, invalid, &w[j], &walk[j]);
+                walk_start(rays, ray_layout, ray_stride, ray_offset, next++, node_count, invalid, max_hits, &w[j], &walk[j]);
             } else {
                 w[j].ray = end;
                 --busy;
@@ -316,12 +415,21 @@ static clvis_vec3 load_vertex(__global const float* positions, uint v)
 __kernel void ray_query_brute(__global const float* positions, __global const uint* indices, uint triangle_count,
                               __global const float* rays, int ray_layout, ulong ray_stride, ulong ray_offset,
                               uint count, __global out_t* out, int out_layout, ulong out_stride, ulong out_offset,
-                              __global uint* invalid)
+                              __global uint* invalid
+#if CLVIS_QUERY == CLVIS_QUERY_ALL
+                              , uint max_hits, __global uint* counts
+#endif
+                              )
 {
+#if CLVIS_QUERY != CLVIS_QUERY_ALL
+    const uint max_hits = 1u;
+    __global uint* counts = 0;
+#endif
     uint i = (uint)get_global_id(0);
     if (i >= count) return;
     clvis_ray_rec r = load_ray(rays, ray_layout, ray_stride, ray_offset + i);
-    answer a = start_answer(r);
+    answer a;
+    start_answer(r, max_hits, &a);
     if (!clvis_ray_valid(r)) {
         atomic_inc(invalid);
     } else {
@@ -334,5 +442,5 @@ __kernel void ray_query_brute(__global const float* positions, __global const ui
                 break;
         }
     }
-    store_answer(out, out_layout, out_stride, out_offset + i, a);
+    store_answer(out, out_layout, out_stride, out_offset + i, &a, counts);
 }

@@ -151,6 +151,23 @@ expect(2 "--hits: .*hits.txt.*\\.npy, \\.bin, \\.raw" rays ${MESH} --rays ${WORK
 if(EXISTS ${WORK}/hits.txt)
   set(failures "${failures}\n  rays --hits hits.txt: written")
 endif()
+# clvis rays --query all: (N, K) hits whose first equals the closest hit, and the counts, written
+# together; a refused --counts name leaves no --hits file (all or none); the flags need each other.
+expect(0 "wrote ${WORK}/all.npy.*wrote ${WORK}/counts.npy" rays ${MESH} --rays ${WORK}/rays32.bin
+       --hits ${WORK}/all.npy --query all --max-hits 3 --counts ${WORK}/counts.npy)
+file(READ ${WORK}/all.npy all_head OFFSET 10 LIMIT 118) # past the magic and its NUL bytes
+file(READ ${WORK}/all.npy all_first OFFSET 128 LIMIT 16 HEX)
+file(READ ${WORK}/hits32.npy closest_first OFFSET 128 LIMIT 16 HEX)
+if(NOT all_head MATCHES "'shape': \\(2, 3\\)" OR NOT all_first STREQUAL closest_first)
+  set(failures "${failures}\n  rays --query all: not (2, 3) hits led by the closest hit (${all_first}, ${closest_first})")
+endif()
+expect(2 "--counts: .*counts.txt" rays ${MESH} --rays ${WORK}/rays32.bin --hits ${WORK}/all2.npy --query all
+       --max-hits 2 --counts ${WORK}/counts.txt)
+if(EXISTS ${WORK}/all2.npy)
+  set(failures "${failures}\n  rays --query all with a refused --counts: --hits written")
+endif()
+expect(2 "--max-hits" rays ${MESH} --rays ${WORK}/rays32.bin --hits ${WORK}/all3.npy --query all)
+expect(2 "--query all" rays ${MESH} --rays ${WORK}/rays32.bin --hits ${WORK}/all3.npy --max-hits 2)
 
 # -q says nothing while kernels are compiled (cold caches: PoCL's Clang prints its warnings'
 # count on standard error itself unless built with -w); --verbose prints each build log.

@@ -188,6 +188,22 @@ std::vector<std::uint32_t> query_all(Renderer& r, const std::vector<RayRecord>& 
     return out;
 }
 
+/// All hits of `rays` (3 a ray; with counts, then without) as words: t, id, u, v per hit, the counts.
+std::vector<std::uint32_t> all_hits_words(Renderer& r, const std::vector<RayRecord>& rays, bool brute, int lanes = 1)
+{
+    RayQueryOptions options{64, brute};
+    options.lanes = lanes;
+    RayQuery q(r, options);
+    std::vector<HitRecord> hits(rays.size() * 3), pruned(rays.size() * 3);
+    std::vector<std::uint32_t> counts(rays.size()), out(hits.size() * 8);
+    q.all({rays.data(), rays.size()}, 3, hits.data(), counts.data());
+    q.all({rays.data(), rays.size()}, 3, pruned.data());
+    std::memcpy(out.data(), hits.data(), hits.size() * sizeof(HitRecord));
+    std::memcpy(out.data() + hits.size() * 4, pruned.data(), pruned.size() * sizeof(HitRecord));
+    out.insert(out.end(), counts.begin(), counts.end());
+    return out;
+}
+
 TEST_CASE("the ray query kernels run clean on Oclgrind and match PoCL", "[.oclgrind]")
 {
     Scene scene;
@@ -213,6 +229,8 @@ TEST_CASE("the ray query kernels run clean on Oclgrind and match PoCL", "[.oclgr
             // three rays walked interleaved per work-item (a run of 12 per work-item, 153 rays:
             // the last work-items' lanes run out at different steps)
             if (!brute) CHECK(query_all(on_grind, rays, false, 3) == want);
+            const auto all_want = all_hits_words(on_pocl, rays, brute);
+            CHECK(all_hits_words(on_grind, rays, brute, brute ? 1 : 3) == all_want);
         }
     }
 }

@@ -126,3 +126,23 @@ TEST_CASE("malformed .npy files are refused naming the file and the fault")
     CHECK(error_of(raw).find("not a whole number of 32-byte records") != std::string::npos);
     CHECK(error_of(temp_path("missing.npy")).find("cannot open") != std::string::npos);
 }
+
+TEST_CASE("all hits are written as an (N, K) structured .npy or as raw records in order")
+{
+    std::vector<HitRecord> hits;
+    for (std::uint32_t i = 0; i < 6; ++i) hits.push_back(HitRecord{float(i) * 0.5f, i, 0.25f, 0.125f});
+    std::string npy = temp_path("all.npy"), raw = temp_path("all.bin");
+    write_hit_lists(npy, hits, 3);
+    write_hit_lists(raw, hits, 3);
+    NpyArray a = read_npy(npy);
+    CHECK(a.shape == std::vector<std::size_t>{2, 3});
+    CHECK(a.descr.find("('id', '<u4')") != std::string::npos);
+    REQUIRE(a.data.size() == hits.size() * sizeof(HitRecord));
+    CHECK(std::memcmp(a.data.data(), hits.data(), a.data.size()) == 0);
+    std::vector<HitRecord> back = read_hits(raw);
+    REQUIRE(back.size() == hits.size());
+    CHECK(std::memcmp(back.data(), hits.data(), back.size() * sizeof(HitRecord)) == 0);
+    CHECK_THROWS_AS(write_hit_lists(temp_path("bad.npy"), hits, 4), Error);
+    std::remove(npy.c_str());
+    std::remove(raw.c_str());
+}

@@ -67,8 +67,8 @@ TEST_CASE("every option enum round-trips through its names, and an unknown name 
     check_names<Attribute>({Attribute::Barycentrics, Attribute::Position, Attribute::Normal, Attribute::SmoothNormal},
                            attribute_from_string, "attribute", "barycentrics, position, normal, smooth_normal");
     check_names<FilmFit>({FilmFit::Fill, FilmFit::Overscan}, film_fit_from_string, "fit", "fill, overscan");
-    check_names<RayQueryKind>({RayQueryKind::Closest, RayQueryKind::Any, RayQueryKind::Count},
-                              ray_query_kind_from_string, "query", "closest, any, count");
+    check_names<RayQueryKind>({RayQueryKind::Closest, RayQueryKind::Any, RayQueryKind::Count, RayQueryKind::All},
+                              ray_query_kind_from_string, "query", "closest, any, count, all");
 }
 
 TEST_CASE("samples per pixel are the powers of two up to 16, and the refusal lists them", "[render_options]")

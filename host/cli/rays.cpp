@@ -1,5 +1,6 @@
 // clvis rays: a file of rays in, the answers of one ray query out (CONVENTIONS.md "Ray queries"):
-// closest hits, occlusion flags or hit counts, as .npy or raw records by the file's extension.
+// closest hits, occlusion flags, hit counts or all hits (up to --max-hits per ray, and with --counts
+// the number of each ray's hits), as .npy or raw records by the file's extension.
 #include "commands.hpp"
 #include "options.hpp"
 #include "output_plan.hpp"
@@ -21,7 +22,8 @@ namespace {
 struct RaysArgs {
     SceneInput scene;
     DeviceOptions device;
-    std::string rays, hits;
+    std::string rays, hits, counts;
+    int max_hits = 0; ///< --max-hits (all hits only); 0: not given
     RayQueryKind query = RayQueryKind::Closest;
     std::size_t batch = std::size_t(1) << 20;
     bool brute = false, json = false, quiet = false;
@@ -52,12 +54,19 @@ void rays_command(const RaysArgs& a)
         throw Error(Error::Kind::InvalidArgument, "--hits: clvis rays runs as " + std::to_string(ranks) +
                                                       " MPI processes (mpirun), which would all write '" + a.hits +
                                                       "'; run one process");
+    const RayQueryKind kind = a.query;
+    if (kind != RayQueryKind::All && (a.max_hits != 0 || !a.counts.empty()))
+        throw Error(Error::Kind::InvalidArgument,
+                    std::string(a.max_hits != 0 ? "--max-hits" : "--counts") + " needs --query all");
+    if (kind == RayQueryKind::All && a.max_hits == 0)
+        throw Error(Error::Kind::InvalidArgument, "--query all needs --max-hits K (1 to " +
+                                                      std::to_string(ray_query_max_hits) + ")");
     OutputPlan plan;
     plan.add("--hits", a.hits, OutputKind::RayAnswers);
+    if (!a.counts.empty()) plan.add("--counts", a.counts, OutputKind::RayAnswers);
     double load_ms = 0;
     SceneFile file = a.scene.load(&load_ms);
     if (file.scene.empty()) throw Error(Error::Kind::InvalidArgument, "the scene holds no triangles");
-    const RayQueryKind kind = a.query;
     std::vector<RayRecord> rays = read_rays_converted(a.rays);
     Device device = a.device.open();
     Renderer renderer(device, file.scene);
@@ -76,6 +85,12 @@ void rays_command(const RaysArgs& a)
         std::vector<std::uint8_t> flags(rays.size());
         stats = query.occluded({rays.data(), rays.size()}, flags.data());
         write_flags(plan.temporary(a.hits), flags);
+    } else if (kind == RayQueryKind::All) {
+        std::vector<HitRecord> hits(rays.size() * std::size_t(a.max_hits));
+        std::vector<std::uint32_t> counts(a.counts.empty() ? 0 : rays.size());
+        stats = query.all({rays.data(), rays.size()}, a.max_hits, hits.data(), a.counts.empty() ? nullptr : counts.data());
+        write_hit_lists(plan.temporary(a.hits), hits, std::size_t(a.max_hits));
+        if (!a.counts.empty()) write_counts(plan.temporary(a.counts), counts);
     } else {
         std::vector<std::uint32_t> counts(rays.size());
         stats = query.count({rays.data(), rays.size()}, counts.data());
@@ -97,6 +112,7 @@ void rays_command(const RaysArgs& a)
                          {"triangles", file.scene.triangle_count()}, {"device", device.info().name},
                          {"load_ms", load_ms},         {"build_ms", build_ms},       {"device_ms", stats.device_ms},
                          {"wall_ms", stats.wall_ms},   {"batches", stats.batches},   {"mrays_per_s", mrays}};
+        if (kind == RayQueryKind::All) j["max_hits"] = a.max_hits;
         std::cout << j.dump(2) << "\n";
     }
 }
@@ -107,16 +123,22 @@ void add_rays_command(CLI::App& app)
 {
     auto args = std::make_shared<RaysArgs>();
     auto* cmd = app.add_subcommand(
-        "rays", "Answer a ray query for a file of rays: closest hits, occlusion or hit counts.\n"
+        "rays", "Answer a ray query for a file of rays: closest hits, occlusion, hit counts or all hits.\n"
                 "Rays: .npy (N, 8) float32 (float64 is converted) ox,oy,oz,tmin,dx,dy,dz,tmax, or raw 32-byte "
                 "records.\n"
-                "Hits: .npy (structured t,id,u,v | uint8 | uint32), or raw records as .bin or .raw.\n"
+                "Hits: .npy (structured t,id,u,v | uint8 | uint32; all hits (N, K) structured), or raw records as "
+                ".bin or .raw.\n"
                 "Example: clvis rays scenes/spot.obj --rays rays.npy --hits hits.npy --query closest");
     args->scene.add_to(*cmd);
     args->device.add_to(*cmd);
     cmd->add_option("--rays", args->rays, "the rays (.npy or raw records)")->required();
     cmd->add_option("--hits", args->hits, "where the answers go (.npy, or raw records as .bin or .raw)")->required();
-    add_choice(*cmd, "--query", args->query, "closest, any (occlusion) or count");
+    add_choice(*cmd, "--query", args->query,
+               "closest, any (occlusion), count (half-open crossings) or all (the --max-hits nearest hits)");
+    cmd->add_option("--max-hits", args->max_hits, "with --query all: hits kept per ray, nearest first by t then id")
+        ->check(CLI::Range(1, ray_query_max_hits));
+    cmd->add_option("--counts", args->counts,
+                    "with --query all: the number of all hits of each ray, edges inclusive (uint32; .npy or raw)");
     cmd->add_option("--batch", args->batch, "rays per kernel launch at most")->check(CLI::Range(1, 1 << 28));
     cmd->add_flag("--brute", args->brute, "test every triangle instead of walking the BVH");
     cmd->add_flag("--json", args->json, "print one JSON object with the counts and timings on standard output");

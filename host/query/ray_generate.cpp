@@ -1,6 +1,8 @@
 // Rays made on the device from a visibility buffer (kernels/ray_generate.cl) and answered by the
 // any-hit query (ray_query.cpp), in chunks of pixels so device memory stays bounded: ambient
-// occlusion and shadows toward a point light, resolved per pixel on the host.
+// occlusion and shadows toward a point light, resolved per pixel on the host. Only covered pixels
+// get rays: their indices, listed in row order from the keys the host reads anyway, are the
+// generator's launch (a background pixel's value is 1 without a ray).
 #include "query/ray_query_impl.hpp"
 #include "render/sample_scene.hpp"
 
@@ -55,7 +57,7 @@ void RayQuery::Impl::reserve_generated(std::size_t rays)
 }
 
 /// Sets the arguments of a generator kernel that stay the same from chunk to chunk (its
-/// arguments from 9 on are set by the caller). Returns the scene it reads (a scene with instances:
+/// arguments 9 to 11 are set by the caller, 12 (the list of covered pixels, or null) by its user). Returns the scene it reads (a scene with instances:
 /// the keys' triangles, render/sample_scene.hpp), to be kept while the kernel runs.
 static SampleScene bind_generator(RayQuery::Impl& m, cl::Kernel& generate, const VisibilityBuffer& vis,
                                   const clvis_camera_gpu& g, int per_pixel, const cl::Buffer& rays)
@@ -72,7 +74,8 @@ static SampleScene bind_generator(RayQuery::Impl& m, cl::Kernel& generate, const
     return scene;
 }
 
-/// Enqueues the generation of the rays of pixels [first, first + n).
+/// Enqueues the generation of the rays of pixel entries [first, first + n) (of the covered list
+/// where one is set, else of the buffer).
 static void generate_chunk(RayQuery::Impl& m, cl::Kernel& generate, std::size_t first, std::size_t n, int per_pixel)
 {
     generate.setArg(4, cl_uint(first));
@@ -100,17 +103,27 @@ static PixelRays pixel_rays(RayQuery::Impl& m, const VisibilityBuffer& vis, cons
     out.height = vis.height();
     std::size_t pixels = std::size_t(out.width) * std::size_t(out.height);
     out.value.assign(pixels, 1.0f);
-    std::size_t chunk = chunk_pixels(m, pixels, per_pixel), chunk_rays = chunk * std::size_t(per_pixel);
-    std::vector<std::uint8_t> flags(chunk_rays);
     std::vector<std::uint64_t> keys = vis.read_keys();
-    std::size_t background_rays = 0;
+    std::vector<std::uint32_t> covered; // the pixels that get rays, in row order
+    covered.reserve(pixels);
+    for (std::size_t p = 0; p < pixels; ++p)
+        if (std::uint32_t(keys[p]) != background_id) covered.push_back(std::uint32_t(p));
+    std::size_t chunk = chunk_pixels(m, std::max<std::size_t>(1, covered.size()), per_pixel);
+    std::size_t chunk_rays = chunk * std::size_t(per_pixel);
+    std::vector<std::uint8_t> flags(chunk_rays);
     try {
         m.reserve_generated(chunk_rays);
         const cl::Buffer &rays = m.generated_rays, &hit = m.generated_flags;
+        cl::Buffer list;
+        if (!covered.empty()) {
+            list = cl::Buffer(r.dev().context, CL_MEM_READ_ONLY, covered.size() * sizeof(std::uint32_t));
+            r.queue.enqueueWriteBuffer(list, CL_FALSE, 0, covered.size() * sizeof(std::uint32_t), covered.data());
+            generate.setArg(12, list);
+        }
         SampleScene scene =
             bind_generator(m, generate, vis, make_gpu_camera(camera, out.width, out.height), per_pixel, rays);
-        for (std::size_t first = 0; first < pixels; first += chunk) {
-            std::size_t n = std::min(chunk, pixels - first), n_rays = n * std::size_t(per_pixel);
+        for (std::size_t first = 0; first < covered.size(); first += chunk) {
+            std::size_t n = std::min(chunk, covered.size() - first), n_rays = n * std::size_t(per_pixel);
             generate_chunk(m, generate, first, n, per_pixel);
             DeviceRays in{rays(), RayLayout::AoS, n_rays, 0};
             DeviceResults res{hit(), RayLayout::AoS, 0};
@@ -121,20 +134,14 @@ static PixelRays pixel_rays(RayQuery::Impl& m, const VisibilityBuffer& vis, cons
             out.stats.batches += s.batches;
             out.stats.device_ms += s.device_ms;
             for (std::size_t p = 0; p < n; ++p) {
-                if (std::uint32_t(keys[first + p]) == background_id) {
-                    background_rays += std::size_t(per_pixel);
-                    continue;
-                }
                 int open = 0;
                 for (int k = 0; k < per_pixel; ++k) open += flags[p * std::size_t(per_pixel) + std::size_t(k)] == 0;
-                out.value[first + p] = float(open) / float(per_pixel);
+                out.value[covered[first + p]] = float(open) / float(per_pixel);
             }
         }
     } catch (const cl::Error& e) {
         throw_cl_error(e, "generating rays from a visibility buffer");
     }
-    // Background pixels get rays of zero direction: not the caller's invalid rays.
-    out.stats.invalid -= std::min(out.stats.invalid, background_rays);
     out.stats.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return out;
 }
@@ -176,6 +183,7 @@ std::vector<RayRecord> RayQuery::ambient_occlusion_rays(const VisibilityBuffer& 
         std::vector<RayRecord> out(pixels * per);
         clvis_camera_gpu g = make_gpu_camera(camera, vis.width(), vis.height());
         SampleScene scene = bind_generator(m, generate, vis, g, options.rays, m.generated_rays);
+        generate.setArg(12, sizeof(cl_mem), nullptr); // every pixel, the background's too
         for (std::size_t first = 0; first < pixels; first += chunk) {
             std::size_t n = std::min(chunk, pixels - first);
             generate_chunk(m, generate, first, n, options.rays);

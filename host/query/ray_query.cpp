@@ -35,7 +35,21 @@ constexpr std::size_t group_items = 64;
 /// takes the work-item's next one).
 constexpr int items_per_lane = 4;
 
-std::size_t result_bytes(RayQueryKind kind) { return kind == RayQueryKind::Closest ? 16 : kind == RayQueryKind::Any ? 1 : 4; }
+static_assert(CLVIS_MAX_ALL_HITS == ray_query_max_hits, "the limit shared with kernels/shared/ray_query.h");
+
+/// Bytes of answers per ray (all hits: per hit kept).
+std::size_t result_bytes(RayQueryKind kind)
+{
+    return kind == RayQueryKind::Closest || kind == RayQueryKind::All ? 16 : kind == RayQueryKind::Any ? 1 : 4;
+}
+
+/// The list length all hits are built for: the power of two at or above max_hits, as a log2.
+int list_log2(int max_hits)
+{
+    int l = 0;
+    while ((1 << l) < max_hits) ++l;
+    return l;
+}
 
 /// Throws unless `mem` belongs to `context` and holds at least `bytes`.
 void check_device_buffer(cl_mem mem, cl_context context, std::uint64_t bytes, const char* what)
@@ -68,14 +82,24 @@ RayQuery::Impl::Impl(Renderer& renderer, const RayQueryOptions& o) : r(RendererA
     if (!options.brute) error_boundary("preparing the ray queries", [&] { return &r.ray_pipeline_with_bvh(); });
 }
 
+RayQuery::Impl::Built& RayQuery::Impl::built_for(RayQueryKind kind)
+{
+    if (kind != RayQueryKind::All) return built[int(kind)];
+    return built_all[list_log2(all.max_hits)][all.counts ? 1 : 0];
+}
+
 cl::Kernel& RayQuery::Impl::kernel(RayQueryKind kind)
 {
     int entries = options.brute ? 1 : r.ray->stack_entries();
     int stack = (entries / stack_step + 1) * stack_step;
     bool two_level = !options.brute && r.ray->two_level();
-    Built& b = built[int(kind)];
+    Built& b = built_for(kind);
     if (b.stack != stack || b.two_level != two_level) {
         std::string defs = "-DCLVIS_QUERY=" + std::to_string(int(kind)) + " -DCLVIS_RAY_STACK=" + std::to_string(stack);
+        if (kind == RayQueryKind::All) {
+            defs += " -DCLVIS_MAX_HITS=" + std::to_string(1 << list_log2(all.max_hits));
+            if (all.counts) defs += " -DCLVIS_ALL_COUNTS=1";
+        }
         if (!options.brute && r.dev().cpu_hints()) defs += " -DCLVIS_PREFETCH=1";
         if (two_level) defs += " -DCLVIS_INSTANCES=1";
         b.lanes = options.brute ? 1 : std::max(1, options.lanes);
@@ -90,19 +114,26 @@ cl::Kernel& RayQuery::Impl::kernel(RayQueryKind kind)
     return b.kernel;
 }
 
-void RayQuery::Impl::reserve(std::size_t rays)
+void RayQuery::Impl::reserve(std::size_t rays, std::size_t out_per_ray)
 {
-    if (rays <= capacity) return;
-    std::uint64_t ray_bytes = std::uint64_t(rays) * sizeof(RayRecord), hit_bytes = std::uint64_t(rays) * sizeof(HitRecord);
-    r.dev().check_allocation(ray_bytes, "a batch of " + std::to_string(rays) + " rays");
+    // staged_out holds at least capacity hits (the SoA planes of closest hits lie capacity apart)
+    std::uint64_t ray_bytes = std::uint64_t(rays) * sizeof(RayRecord);
+    std::uint64_t out_bytes = std::uint64_t(std::max(rays, capacity)) * std::max(out_per_ray, sizeof(HitRecord));
     try {
-        staged_rays = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, ray_bytes);
-        staged_out = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, hit_bytes);
+        if (rays > capacity) {
+            r.dev().check_allocation(ray_bytes, "a batch of " + std::to_string(rays) + " rays");
+            staged_rays = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, ray_bytes);
+            capacity = rays;
+        }
+        if (out_bytes > staged_out_bytes) {
+            r.dev().check_allocation(out_bytes, "the answers of a batch of " + std::to_string(rays) + " rays");
+            staged_out = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, out_bytes);
+            staged_out_bytes = out_bytes;
+        }
         if (!invalid()) invalid = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, sizeof(cl_uint));
     } catch (const cl::Error& e) {
         throw_cl_error(e, "allocating ray query buffers of " + std::to_string(rays) + " rays");
     }
-    capacity = rays;
 }
 
 /// One batch: [first, first + m) of `src` into `dst`.
@@ -140,7 +171,8 @@ void RayQuery::Impl::batch(RayQueryKind kind, const Source& src, const Sink& dst
     q.enqueueWriteBuffer(invalid, CL_FALSE, 0, sizeof zero, &zero);
 
     cl::Kernel& k = kernel(kind);
-    std::size_t group = built[int(kind)].group;
+    const Built& built_now = built_for(kind);
+    std::size_t group = built_now.group;
     int a = 0;
     std::size_t per_item = 1;
     if (options.brute) {
@@ -148,11 +180,11 @@ void RayQuery::Impl::batch(RayQueryKind kind, const Source& src, const Sink& dst
         k.setArg(a++, r.scene_buffers().indices);
         k.setArg(a++, cl_uint(r.scene_buffers().triangle_count));
     } else {
-        per_item = built[int(kind)].per_item;
+        per_item = built_now.per_item;
         k.setArg(a++, r.ray->nodes());
         k.setArg(a++, cl_uint(r.ray->node_count()));
         k.setArg(a++, r.ray->triangles());
-        if (built[int(kind)].two_level) k.setArg(a++, r.ray->instances());
+        if (built_now.two_level) k.setArg(a++, r.ray->instances());
     }
     k.setArg(a++, rays);
     k.setArg(a++, ray_layout);
@@ -165,6 +197,13 @@ void RayQuery::Impl::batch(RayQueryKind kind, const Source& src, const Sink& dst
     k.setArg(a++, out_stride);
     k.setArg(a++, out_offset);
     k.setArg(a++, invalid);
+    std::size_t per_ray = result_bytes(kind);
+    if (kind == RayQueryKind::All) {
+        per_ray *= std::size_t(all.max_hits);
+        k.setArg(a++, cl_uint(all.max_hits));
+        if (all.counts) k.setArg(a++, staged_counts);
+        else k.setArg(a++, sizeof(cl_mem), nullptr);
+    }
     cl::Event done;
     std::size_t items = (m + per_item - 1) / per_item;
     q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(items, group)), cl::NDRange(group), nullptr, &done);
@@ -174,9 +213,10 @@ void RayQuery::Impl::batch(RayQueryKind kind, const Source& src, const Sink& dst
         for (int f = 0; f < CLVIS_HIT_FIELDS; ++f)
             q.enqueueReadBuffer(staged_out, CL_FALSE, f * capacity * 4, m * 4, static_cast<char*>(fields[f]) + first * 4);
     } else if (dst.host) {
-        std::size_t bytes = result_bytes(kind);
-        q.enqueueReadBuffer(staged_out, CL_FALSE, 0, m * bytes, static_cast<char*>(dst.host) + first * bytes);
+        q.enqueueReadBuffer(staged_out, CL_FALSE, 0, m * per_ray, static_cast<char*>(dst.host) + first * per_ray);
     }
+    if (kind == RayQueryKind::All && all.counts)
+        q.enqueueReadBuffer(staged_counts, CL_FALSE, 0, m * 4, all.counts + first);
     cl_uint bad = 0;
     q.enqueueReadBuffer(invalid, CL_TRUE, 0, sizeof bad, &bad);
     stats.invalid += bad;
@@ -194,9 +234,19 @@ RayQueryStats RayQuery::Impl::run(RayQueryKind kind, const Source& src, const Si
     if (n == 0) return stats;
     error_boundary(std::string("answering a ray query (") + to_string(kind) + ")", [&] {
         if (!options.brute) r.ray_pipeline_with_bvh();
-        reserve(std::min(n, options.batch_rays));
-        for (std::size_t first = 0; first < n; first += capacity)
-            batch(kind, src, dst, first, std::min(capacity, n - first), stats);
+        // all hits: batch_rays hit records per batch at most, so the staging buffers keep their bound
+        std::size_t per_batch = options.batch_rays, hits_per_ray = 1;
+        if (kind == RayQueryKind::All) {
+            hits_per_ray = std::size_t(all.max_hits);
+            per_batch = std::max<std::size_t>(1, per_batch / hits_per_ray);
+        }
+        std::size_t step = std::min(n, per_batch);
+        reserve(step, result_bytes(kind) * hits_per_ray);
+        if (kind == RayQueryKind::All && all.counts && step > counts_capacity) {
+            staged_counts = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, step * sizeof(cl_uint));
+            counts_capacity = step;
+        }
+        for (std::size_t first = 0; first < n; first += step) batch(kind, src, dst, first, std::min(step, n - first), stats);
     });
     stats.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return stats;
@@ -294,6 +344,19 @@ RayQueryStats RayQuery::count(const RayInput& rays, std::uint32_t* counts)
 RayQueryStats RayQuery::count(const RayInput& rays, const DeviceResults& counts)
 {
     return impl_->run(RayQueryKind::Count, impl_->source(rays), impl_->device_sink(RayQueryKind::Count, counts, rays.count));
+}
+
+RayQueryStats RayQuery::all(const RayInput& rays, int max_hits, HitRecord* hits, std::uint32_t* counts)
+{
+    if (max_hits < 1 || max_hits > ray_query_max_hits)
+        throw Error(Error::Kind::InvalidArgument, "ray query: max_hits must lie in [1, " +
+                                                      std::to_string(ray_query_max_hits) + "], got " +
+                                                      std::to_string(max_hits));
+    if (counts) require(counts, rays.count, "the count array");
+    Impl::Source src = impl_->source(rays);
+    Impl::Sink dst = impl_->host_sink(hits, rays.count);
+    impl_->all = Impl::AllRequest{max_hits, counts};
+    return impl_->run(RayQueryKind::All, src, dst);
 }
 
 } // namespace clvis

@@ -22,10 +22,21 @@ struct RayQuery::Impl {
         std::size_t per_item = 1; ///< rays a work-item answers
     };
     Built built[3];
+    /// All hits: per list length (the powers of two 1 .. 64, CLVIS_MAX_HITS) and whether counts
+    /// are asked (CLVIS_ALL_COUNTS).
+    Built built_all[7][2];
+    /// The all-hits call in progress: hits kept per ray, and where the counts go (null: not asked).
+    struct AllRequest {
+        int max_hits = 1;
+        std::uint32_t* counts = nullptr;
+    } all;
     cl::Kernel generate_ao, generate_shadow;
     std::size_t capacity = 0;     ///< rays the staging buffers hold (the SoA stride)
     cl::Buffer staged_rays;       ///< capacity rays, AoS or SoA
-    cl::Buffer staged_out;        ///< capacity hits, flags or counts
+    cl::Buffer staged_out;        ///< capacity hits, flags or counts; all hits: staged_out_bytes
+    std::size_t staged_out_bytes = 0;
+    cl::Buffer staged_counts;     ///< all hits: counts_capacity counts
+    std::size_t counts_capacity = 0;
     cl::Buffer invalid;           ///< one uint: invalid rays seen by a batch
     std::size_t generated_capacity = 0; ///< rays the generator's buffers hold
     cl::Buffer generated_rays;          ///< generated_capacity AoS rays (ray_generate.cpp)
@@ -45,8 +56,12 @@ struct RayQuery::Impl {
     };
 
     Impl(Renderer& renderer, const RayQueryOptions& options);
+    /// The kernel of `kind` (All: of the request in `all`) as built now.
+    Built& built_for(RayQueryKind kind);
     cl::Kernel& kernel(RayQueryKind kind);
-    void reserve(std::size_t rays);
+    /// Grows the staging buffers to hold `rays` rays and `out_per_ray` bytes of answers per ray
+    /// (all hits: max_hits records; and counts when asked).
+    void reserve(std::size_t rays, std::size_t out_per_ray = sizeof(HitRecord));
     /// Grows the generator's buffers to hold `rays` rays (kept from call to call).
     void reserve_generated(std::size_t rays);
     void batch(RayQueryKind kind, const Source& src, const Sink& dst, std::size_t first, std::size_t m,

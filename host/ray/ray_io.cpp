@@ -242,6 +242,14 @@ std::vector<HitRecord> read_hits(const std::string& path)
 }
 
 void write_hits(const std::string& path, const std::vector<HitRecord>& hits) { write_records(path, hit_descr, hits); }
+void write_hit_lists(const std::string& path, const std::vector<HitRecord>& hits, std::size_t per_ray)
+{
+    if (per_ray == 0 || hits.size() % per_ray != 0)
+        fail(path, std::to_string(hits.size()) + " hits are not lists of " + std::to_string(per_ray));
+    if (is_npy(path)) write_npy(path, hit_descr, {hits.size() / per_ray, per_ray}, hits.data(), hits.size() * sizeof(HitRecord));
+    else write_records(path, std::string(), hits);
+}
+
 void write_flags(const std::string& path, const std::vector<std::uint8_t>& flags) { write_records(path, "'|u1'", flags); }
 void write_counts(const std::string& path, const std::vector<std::uint32_t>& counts) { write_records(path, "'<u4'", counts); }
 

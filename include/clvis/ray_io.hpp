@@ -36,6 +36,9 @@ std::vector<RayRecord> read_rays(const std::string& path);
 void write_rays(const std::string& path, const std::vector<RayRecord>& rays);
 /// Writes closest hits (.npy: fields t '<f4', id '<u4', u '<f4', v '<f4'; else 16-byte records).
 void write_hits(const std::string& path, const std::vector<HitRecord>& hits);
+/// Writes all hits, `per_ray` records per ray (.npy: a structured (N, per_ray) array of the same
+/// fields; else the records in order).
+void write_hit_lists(const std::string& path, const std::vector<HitRecord>& hits, std::size_t per_ray);
 /// Reads closest hits as write_hits writes them.
 std::vector<HitRecord> read_hits(const std::string& path);
 /// Writes one uint8 (occlusion) or uint32 (count) per ray.

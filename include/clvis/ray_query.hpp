@@ -98,11 +98,22 @@ public:
     RayQueryStats count(const RayInput& rays, std::uint32_t* counts);
     RayQueryStats count(const RayInput& rays, const DeviceResults& counts);
 
+    /// All hits (CONVENTIONS.md "Depth layers"): each ray's max_hits (1 .. ray_query_max_hits)
+    /// nearest hits in [tmin, tmax], edges inclusive as closest() (a ray through an edge shared by
+    /// two triangles meets both), ordered by t then id, into hits[i * max_hits .. i * max_hits +
+    /// max_hits - 1]; the slots past a ray's last hit are misses as closest() writes them. With
+    /// `counts` (rays.count of them), the number of all hits of each ray, edges inclusive, which
+    /// may exceed max_hits (not count()'s half-open crossings; asking for it walks every box the
+    /// ray meets, where without it the walk prunes against the max_hits-th nearest hit).
+    RayQueryStats all(const RayInput& rays, int max_hits, HitRecord* hits, std::uint32_t* counts = nullptr);
+
     /// Ambient occlusion of every pixel of `vis` (made with `camera`): options.rays rays from
-    /// each visible point, on the side facing the camera.
+    /// each visible point, on the side facing the camera. Rays are made and traced for covered
+    /// pixels only (stats.rays counts those).
     PixelRays ambient_occlusion(const VisibilityBuffer& vis, const Camera& camera, const AoOptions& options = {});
-    /// The rays ambient_occlusion() traces, options.rays per pixel, pixels in row order; a
-    /// background pixel's rays have a zero direction (invalid: answered as misses).
+    /// The rays of ambient_occlusion(), options.rays per pixel, pixels in row order; a background
+    /// pixel's rays, which ambient_occlusion() does not trace, have a zero direction (invalid:
+    /// answered as misses).
     std::vector<RayRecord> ambient_occlusion_rays(const VisibilityBuffer& vis, const Camera& camera,
                                                   const AoOptions& options = {});
     /// Whether each visible point of `vis` sees the point light at `light` (world space).

@@ -41,10 +41,15 @@ enum class RayQueryKind {
     Closest, ///< t, id, u, v per ray
     Any,     ///< one uint8 per ray: 1 when a hit lies in [tmin, tmax] (occlusion)
     Count,   ///< one uint32 per ray: surface crossings in [tmin, tmax], edges and vertices half-open
+    All,     ///< max_hits hits per ray (t, id, u, v), nearest first by (t, id), edges inclusive as
+             ///< closest hits; optionally the number of all hits per ray (not Count's half-open count)
 };
 
+/// The most hits an all-hits query keeps per ray.
+constexpr int ray_query_max_hits = 64;
+
 const char* to_string(RayQueryKind kind) noexcept;
-/// "closest", "any" or "count" (render_options.cpp's table, as option_names<RayQueryKind>());
+/// "closest", "any", "count" or "all" (render_options.cpp's table, as option_names<RayQueryKind>());
 /// throws Error(InvalidArgument) otherwise.
 RayQueryKind ray_query_kind_from_string(const std::string& name);
 

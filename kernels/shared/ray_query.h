@@ -10,6 +10,12 @@
 #define CLVIS_QUERY_CLOSEST 0 /* t, id, u, v per ray */
 #define CLVIS_QUERY_ANY 1     /* one uchar per ray: 1 when any hit lies in [tmin, tmax] */
 #define CLVIS_QUERY_COUNT 2   /* one uint per ray: crossings in [tmin, tmax], half-open */
+#define CLVIS_QUERY_ALL 3     /* max_hits hits per ray (t, id, u, v), nearest first; optionally the
+                                 number of all hits per ray (uint, edges inclusive) */
+
+/* All hits: max_hits lies in [1, CLVIS_MAX_ALL_HITS]; a kernel keeps a list of CLVIS_MAX_HITS
+   entries (the power of two at or above max_hits, built per power) in private memory. */
+#define CLVIS_MAX_ALL_HITS 64
 
 /* Buffer layouts. AoS: ray i is 8 floats at 8 i (ox, oy, oz, tmin, dx, dy, dz, tmax), hit i is
    4 words at 4 i (t, id, u, v). SoA: field k of record i at k * stride + i (stride >= records). */

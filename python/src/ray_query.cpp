@@ -142,6 +142,25 @@ nb::object per_ray(PyRayQuery& q, nb::handle rays, const std::string& layout, nb
     return result;
 }
 
+/// All hits: a new (N, max_hits) clvis.hit_dtype array, and with `counts` a new (N,) uint32 array
+/// of each ray's number of hits (the pair as a tuple).
+nb::object all_hits(PyRayQuery& q, nb::handle rays, int max_hits, const std::string& layout, bool counts)
+{
+    if (max_hits < 1 || max_hits > ray_query_max_hits)
+        throw Error(Error::Kind::InvalidArgument, "RayQuery.all: max_hits must lie in [1, " +
+                                                      std::to_string(ray_query_max_hits) + "], got " + std::to_string(max_hits));
+    HostArray<float> held;
+    const RayInput in = rays_of(rays, layout, "RayQuery.all", held);
+    const std::size_t n = in.count, k = std::size_t(max_hits);
+    nb::object hits = numpy().attr("empty")(nb::make_tuple(n, k), nb::handle(package_dtype("hit_dtype")));
+    auto* records = static_cast<HitRecord*>(writable_data(hits, 0, sizeof(HitRecord), {n, k}));
+    nb::object per_ray = counts ? empty(n, nb::str("uint32")) : nb::none();
+    std::uint32_t* c = counts ? output_array<std::uint32_t>(per_ray, "RayQuery.all: counts", "uint32", {n}) : nullptr;
+    run(q, [&](RayQuery& query) { return n ? query.all(in, max_hits, records, c) : RayQueryStats{}; });
+    if (!counts) return hits;
+    return nb::make_tuple(hits, per_ray);
+}
+
 /// Per-pixel values into `out` (or a new (H, W) float32 array): one copy of H x W floats.
 nb::object pixel_values(PyRayQuery& q, const PixelRays& values, nb::handle out, const char* what)
 {
@@ -253,6 +272,13 @@ void bind_ray_query(nb::module_& m)
                        "numpy.typing.NDArray[numpy.float32]]");
     static const std::string any_sig = sig("occluded", "numpy.typing.NDArray[numpy.uint8]");
     static const std::string count_sig = sig("count", "numpy.typing.NDArray[numpy.uint32]");
+    static const std::string all_doc =
+        std::string("All hits of each ray: its `max_hits` (1 to 64) nearest hits in [tmin, tmax], edges inclusive as\n"
+                    "closest (a ray through an edge shared by two triangles meets both), ordered by t then id, as a new\n"
+                    "(N, max_hits) array of clvis.hit_dtype, the slots past a ray's last hit misses (id background_id,\n"
+                    "t = inf, u = v = 0). With counts=True, (hits, counts): counts a (N,) uint32 array, the number of\n"
+                    "all hits of each ray, edges inclusive (may exceed max_hits; not count()'s half-open crossings;\n"
+                    "asking for it walks every box a ray meets).\n") + rays_doc;
 
     nb::class_<PyRayQuery>(m, "RayQuery", query_doc)
         .def(
@@ -289,6 +315,12 @@ void bind_ray_query(nb::module_& m)
             },
             nb::sig(count_sig.c_str()), nb::arg("rays"), nb::arg("layout") = "aos", nb::kw_only(), nb::arg("out") = nb::none(),
             count_doc.c_str())
+        .def("all", &all_hits,
+             nb::sig("def all(self, rays: numpy.typing.ArrayLike, max_hits: int, layout: str = 'aos', *, counts: bool = False) "
+                     "-> numpy.typing.NDArray[numpy.void] | tuple[numpy.typing.NDArray[numpy.void], "
+                     "numpy.typing.NDArray[numpy.uint32]]"),
+             nb::arg("rays"), nb::arg("max_hits"), nb::arg("layout") = "aos", nb::kw_only(), nb::arg("counts") = false,
+             all_doc.c_str())
         .def("ambient_occlusion", &ambient_occlusion,
              nb::sig("def ambient_occlusion(self, visibility: Visibility, *, rays: int = 8, distance: float = 0.0, "
                      "seed: int = 1, out: numpy.typing.NDArray[numpy.float32] | None = None) -> numpy.typing.NDArray[numpy.float32]"),
@@ -299,8 +331,9 @@ void bind_ray_query(nb::module_& m)
              "the scene's diagonal). (H, W) float32 unoccluded fraction in [0, 1], background 1, into `out`.")
         .def("ambient_occlusion_rays", &ambient_occlusion_rays, nb::arg("visibility"), nb::kw_only(), nb::arg("rays") = 8,
              nb::arg("distance") = 0.0, nb::arg("seed") = 1,
-             "The rays ambient_occlusion traces, as an (H * W * rays, 8) float32 array of records, pixels in\n"
-             "row order (a background pixel's rays have a zero direction: invalid, answered as misses).")
+             "The rays of ambient_occlusion, as an (H * W * rays, 8) float32 array of records, pixels in\n"
+             "row order (a background pixel's rays, which ambient_occlusion does not trace, have a zero\n"
+             "direction: invalid, answered as misses).")
         .def("shadows", &shadows,
              nb::sig("def shadows(self, visibility: Visibility, light: tuple[float, float, float], *, "
                      "out: numpy.typing.NDArray[numpy.float32] | None = None) -> numpy.typing.NDArray[numpy.float32]"),
