@@ -26,6 +26,7 @@ void bind_camera_rays(nb::class_<Camera>& c)
             if (!rays.empty()) std::memcpy(flat.data(), rays.data(), flat.size() * sizeof(float));
             return owned_array(std::move(flat), {std::size_t(height), std::size_t(width), std::size_t(samples), 8});
         },
+        nb::sig("def rays(self, width: int, height: int, samples: int = 1) -> numpy.typing.NDArray[numpy.float32]"),
         nb::arg("width"), nb::arg("height"), nb::arg("samples") = 1,
         "The primary rays of every sample as a read-only (H, W, N, 8) float32 array of ray records\n"
         "ox, oy, oz, tmin, dx, dy, dz, tmax (tmin = near, tmax = far, t = view depth): the rays the ray\n"
