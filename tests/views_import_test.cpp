@@ -229,6 +229,8 @@ TEST_CASE("NeRF transforms.json refusals name the file and the field", "[views_i
     CHECK(load_error(write("scaled.json", file("\"fl_x\": 30, ", frame + ", {\"transform_matrix\": " + rows(scaled) + "}")))
               .find("frames[1].transform_matrix: pose: the 3x3 part is not orthonormal") != std::string::npos);
     CHECK(load_error(write("nofocal.json", file("", frame))).find("frames[0]: no focal length") != std::string::npos);
+    CHECK(load_error(write("fisheye.json", file("\"fl_x\": 30, \"camera_model\": \"OPENCV_FISHEYE\", ", frame)))
+              .find("camera_model: 'OPENCV_FISHEYE' is not read") != std::string::npos);
     CHECK(load_error(write("sizes.json", file("\"fl_x\": 30, ", frame + ", {\"w\": 64, \"transform_matrix\": " +
                                                                     rows(around(1).pose()) + "}")))
               .find("frames[1]: is 64x24, frames[0] 32x24") != std::string::npos);
@@ -330,8 +332,19 @@ TEST_CASE("glTF camera nodes: perspective, orthographic, under a transformed par
     // the orthographic child: its parent's turn and move applied (eye = parent * (0, 0, 0.3))
     CHECK(std::fabs(f.views[1].eye.x - (-0.017 + 0.8 * 0.3)) < 1e-15);
     CHECK(std::fabs(f.views[1].eye.z - 0.6 * 0.3) < 1e-15);
-    // also read by content without the extension, and as a .glb-less JSON with "asset"
+    // also read by content: glTF's JSON under another extension, and a GLB (its JSON chunk alone)
     CHECK(load_views_file(write("cameras.json", gltf), 96, 72).format == ViewsFormat::Gltf);
+    std::string chunk = gltf;
+    while (chunk.size() % 4) chunk += ' ';
+    std::string glb = "glTF";
+    auto u32 = [&glb](std::uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
+    u32(2);
+    u32(std::uint32_t(12 + 8 + chunk.size()));
+    u32(std::uint32_t(chunk.size()));
+    u32(0x4E4F534A); // "JSON"
+    ViewsFile binary = load_views_file(write("cameras.bin", glb + chunk), 96, 72);
+    REQUIRE(binary.views.size() == 3);
+    for (std::size_t v = 0; v < 3; ++v) CHECK(same_camera(binary.views[v], f.views[v]));
 }
 
 TEST_CASE("glTF cameras: zfar absent takes the framing far of the file's triangles; refusals", "[views_import]")

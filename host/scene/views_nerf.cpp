@@ -112,16 +112,26 @@ private:
                     shortest(*v) + ": lens distortion is not drawn (clvis's camera is a pinhole; undistort the images "
                                    "and set it to 0)");
         }
-        for (const char* key : {"camera_model"}) {
-            const Json* j = f.contains(key) ? &f[key] : root_.contains(key) ? &root_[key] : nullptr;
-            if (!j) continue;
+        if (const Json* j = field(f, "camera_model")) { // nerfstudio's
             std::string model = j->is_string() ? j->get<std::string>() : std::string();
             if (model != "PINHOLE" && model != "SIMPLE_PINHOLE" && model != "OPENCV")
-                bad(f.contains(key) ? at + "." + key : key,
+                bad(where(f, at, "camera_model"),
                     "'" + model + "' is not read (clvis reads pinhole cameras: PINHOLE, or OPENCV without distortion)");
         }
-        const Json* fish = f.contains("is_fisheye") ? &f["is_fisheye"] : root_.contains("is_fisheye") ? &root_["is_fisheye"] : nullptr;
-        if (fish && fish->is_boolean() && fish->get<bool>()) bad("is_fisheye", "a fisheye lens is not drawn");
+        if (const Json* j = field(f, "is_fisheye"); j && j->is_boolean() && j->get<bool>())
+            bad(where(f, at, "is_fisheye"), "a fisheye lens is not drawn");
+    }
+
+    /// `key` of the frame, else of the file, else null.
+    const Json* field(const Json& frame, const char* key) const
+    {
+        return frame.contains(key) ? &frame[key] : root_.contains(key) ? &root_[key] : nullptr;
+    }
+
+    /// Where `key` was read from: the frame's path, or the file's key.
+    static std::string where(const Json& frame, const std::string& at, const char* key)
+    {
+        return frame.contains(key) ? at + "." + key : std::string(key);
     }
 
     /// fl_x (fl_y: fl_x when absent), else camera_angle_x (fx = fy = w / 2 / tan(angle / 2),
