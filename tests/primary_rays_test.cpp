@@ -5,6 +5,8 @@
 #include "catch.hpp"
 #include "test_meshes.hpp"
 
+#include <CL/cl.h>
+
 #include <clvis/clvis.hpp>
 #include <clvis/primary_rays.hpp>
 
@@ -169,4 +171,58 @@ TEST_CASE("primary rays: layout, interval, depth as t, refusals", "[primary_rays
     Camera broken = cam;
     broken.near = -1;
     CHECK_THROWS_AS(primary_rays(broken, 4, 4), Error);
+}
+
+TEST_CASE("RayQuery::primary_rays writes on the device the records primary_rays makes on the host", "[primary_rays][device]")
+{
+    Scene scene = test::scene_file("stanford-bunny.obj");
+    Device d = Device::open();
+    RenderOptions o;
+    o.samples = 4;
+    Renderer renderer(d, scene, o);
+    RayQuery query(renderer);
+    const int w = 96, h = 64, n = 4;
+    const std::size_t count = std::size_t(w) * h * n, stride = count + 5;
+    cl_context ctx = renderer.device().context();
+    cl_int err = 0;
+    cl_mem aos = clCreateBuffer(ctx, CL_MEM_READ_WRITE, count * sizeof(RayRecord), nullptr, &err);
+    REQUIRE(err == CL_SUCCESS);
+    cl_mem soa = clCreateBuffer(ctx, CL_MEM_READ_WRITE, 8 * stride * 4, nullptr, &err);
+    REQUIRE(err == CL_SUCCESS);
+    cl_mem hits_buf = clCreateBuffer(ctx, CL_MEM_READ_WRITE, count * sizeof(HitRecord), nullptr, &err);
+    REQUIRE(err == CL_SUCCESS);
+    for (const Camera& cam : {Camera::framing(scene.bounds()), Camera::framing(scene.bounds(), Projection::Orthographic)}) {
+        std::vector<RayRecord> host = primary_rays(cam, w, h, n);
+        query.primary_rays(cam, w, h, n, DeviceRays{aos, RayLayout::AoS, count, 0});
+        std::vector<RayRecord> back(count);
+        REQUIRE(clEnqueueReadBuffer(renderer.device().queue(), aos, CL_TRUE, 0, count * sizeof(RayRecord), back.data(), 0,
+                                    nullptr, nullptr) == CL_SUCCESS);
+        CHECK(std::memcmp(back.data(), host.data(), count * sizeof(RayRecord)) == 0);
+        query.primary_rays(cam, w, h, n, DeviceRays{soa, RayLayout::SoA, count, stride});
+        std::vector<float> planes(8 * stride);
+        REQUIRE(clEnqueueReadBuffer(renderer.device().queue(), soa, CL_TRUE, 0, planes.size() * 4, planes.data(), 0,
+                                    nullptr, nullptr) == CL_SUCCESS);
+        std::size_t off = 0;
+        for (std::size_t i = 0; i < count; ++i)
+            for (int k = 0; k < 8; ++k)
+                off += bits_of(planes[std::size_t(k) * stride + i]) != bits_of((&host[i].ox)[k]);
+        CHECK(off == 0);
+        // closest hits of the device's rays, on the device: the ray path's render
+        query.closest(RayInput(DeviceRays{aos, RayLayout::AoS, count, 0}), DeviceResults{hits_buf, RayLayout::AoS, 0});
+        std::vector<HitRecord> hits(count);
+        REQUIRE(clEnqueueReadBuffer(renderer.device().queue(), hits_buf, CL_TRUE, 0, count * sizeof(HitRecord),
+                                    hits.data(), 0, nullptr, nullptr) == CL_SUCCESS);
+        HostVisibility v = renderer.render(cam, w, h, Path::Ray).read();
+        std::size_t bad = 0;
+        for (std::size_t i = 0; i < count; ++i) bad += hits[i].id != v.ids[i] || bits_of(hits[i].t) != bits_of(v.depth[i]);
+        CHECK(bad == 0);
+    }
+    Camera cam = Camera::framing(scene.bounds());
+    CHECK_THROWS_AS(query.primary_rays(cam, w, h, n, DeviceRays{aos, RayLayout::AoS, count - 1, 0}), Error);
+    CHECK_THROWS_AS(query.primary_rays(cam, w, h, 3, DeviceRays{aos, RayLayout::AoS, count, 0}), Error);
+    CHECK_THROWS_AS(query.primary_rays(cam, w + 1, h, n, DeviceRays{aos, RayLayout::AoS, count + std::size_t(h * n), 0}),
+                    Error); // the buffer is smaller than the count says
+    clReleaseMemObject(aos);
+    clReleaseMemObject(soa);
+    clReleaseMemObject(hits_buf);
 }

@@ -3,13 +3,16 @@
 // compiled on the host without FMA contraction (CMakeLists.txt's -ffp-contract=off) and with
 // IEEE division, which are the device's operations under the program options every kernel gets
 // (-cl-fp32-correctly-rounded-divide-sqrt where the device offers it: host/runtime/device.cpp).
+// RayQuery::primary_rays writes the same records on the device (kernels/ray_generate.cl).
 #include "frame/frame.hpp"
+#include "query/ray_query_impl.hpp"
 
 #include <clvis/error.hpp>
 #include <clvis/primary_rays.hpp>
 #include <clvis/render_options.hpp>
 
 #include "shared/camera.h"
+#include "shared/ray_query.h"
 #include "shared/raster.h"
 
 namespace clvis {
@@ -57,6 +60,34 @@ std::vector<RayRecord> primary_rays(const Camera& camera, int width, int height,
     std::vector<RayRecord> rays(std::size_t(width) * std::size_t(height) * std::size_t(samples));
     primary_rays(camera, width, height, samples, rays.data());
     return rays;
+}
+
+void RayQuery::primary_rays(const Camera& camera, int width, int height, int samples, const DeviceRays& out)
+{
+    const int log2n = check(camera, width, height, samples);
+    const std::size_t n = std::size_t(width) * std::size_t(height) * std::size_t(samples);
+    Impl& m = *impl_;
+    if (out.count < n)
+        throw Error(Error::Kind::InvalidArgument, "RayQuery::primary_rays: the buffer holds " +
+                                                      std::to_string(out.count) + " rays, the image's samples are " +
+                                                      std::to_string(n));
+    Impl::Source s = m.source(RayInput(out)); // the context, the stride and the buffer's size
+    clvis_camera_gpu g = detail::make_gpu_camera(camera, width, height);
+    g.sample_log2 = log2n;
+    try {
+        if (!m.generate_primary())
+            m.generate_primary = cl::Kernel(m.r.dev().program("ray_generate"), "ray_generate_primary");
+        cl::Kernel& k = m.generate_primary;
+        k.setArg(0, sizeof g, &g);
+        k.setArg(1, cl::Buffer(out.buffer, true));
+        k.setArg(2, cl_int(out.layout == RayLayout::AoS ? CLVIS_LAYOUT_AOS : CLVIS_LAYOUT_SOA));
+        k.setArg(3, cl_ulong(s.stride));
+        m.r.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::size_t(width), std::size_t(height),
+                                                                     std::size_t(samples)));
+        m.r.queue.finish();
+    } catch (const cl::Error& e) {
+        detail::throw_cl_error(e, "writing primary rays on the device");
+    }
 }
 
 } // namespace clvis
