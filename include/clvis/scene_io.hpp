@@ -48,7 +48,7 @@ struct GltfScene {
     std::vector<Item> items;        ///< in id order
     /// What was skipped and why (points and lines, no POSITION, skins, morph targets), and one
     /// note listing the camera nodes of the scene ("cameras ignored ...: nodes[3] (cameras[0]
-    /// \"Main\", perspective)"), which clvis does not use.
+    /// \"Main\", perspective)"), which a mesh load does not use (load_views_file reads them as views).
     std::vector<std::string> notes;
     /// A camera node met in the walk (CONVENTIONS.md "Cameras from other tools"): which camera,
     /// at which world transform, and the camera's parameters as the file gives them.
