@@ -124,3 +124,24 @@ __kernel void ray_generate_shadow(__global const ulong* keys, clvis_camera_gpu c
     }
     store_ray(rays, g, p, 0.0f, v3_sub(v3(light_x, light_y, light_z), p), 1.0f);
 }
+
+/* The primary rays of every sample of the camera's image (CONVENTIONS.md "Primary rays as
+   arrays"): clvis_primary_ray at the sample's raster position, tmin = near, tmax = far, record
+   (pixel << sample_log2) + sample, AoS or SoA planes `stride` elements apart. The third dimension
+   is the sample. Launched by RayQuery::primary_rays (host/query/ray_generate.cpp); the host's
+   clvis::primary_rays computes the same operations. */
+__kernel void ray_generate_primary(clvis_camera_gpu cam, __global float* rays, int layout, ulong stride)
+{
+    int x = (int)get_global_id(0), y = (int)get_global_id(1);
+    if (x >= cam.width || y >= cam.height) return;
+    cam.sample = (int)get_global_id(2);
+    clvis_vec2 f = clvis_camera_sample(cam);
+    clvis_vec3 o, d;
+    clvis_primary_ray(cam, (float)x + f.x, (float)y + f.y, &o, &d);
+    ulong i = ((((ulong)y * (ulong)cam.width + (ulong)x)) << cam.sample_log2) + (ulong)cam.sample;
+    float r[CLVIS_RAY_FIELDS] = {o.x, o.y, o.z, cam.near_d, d.x, d.y, d.z, cam.far_d};
+    for (int k = 0; k < CLVIS_RAY_FIELDS; ++k) {
+        if (layout == CLVIS_LAYOUT_AOS) rays[i * CLVIS_RAY_FIELDS + (ulong)k] = r[k];
+        else rays[(ulong)k * stride + i] = r[k];
+    }
+}

@@ -4,6 +4,8 @@
 // uses itself).
 #include <clvis/clvis.hpp>
 #include <clvis/multi_device.hpp> // outside the umbrella, light all the same
+#include <clvis/primary_rays.hpp> // outside the umbrella (its name is common in callers' code)
+#include <clvis/views_file.hpp>
 
 #if defined(__OPENCL_CL_H) || defined(__CL_PLATFORM_H) || defined(CL_SUCCESS)
 #error "a clvis header included an OpenCL header"

@@ -258,7 +258,7 @@ void render_command(RenderArgs a)
     std::vector<Camera> cameras;
     ViewsFile vf;
     if (!a.views.empty()) {
-        vf = load_views_file(a.views);
+        vf = load_views_file(a.views, a.camera.width, a.camera.height); // sizes for glTF, NeRF without w, h
         cameras = vf.views;
     }
     // --distribute: every rank checks every name here; render_dist.cpp plans its own views' files.
@@ -395,7 +395,9 @@ void add_render_command(CLI::App& app)
                     "write unit normals x, y, z (.exr; smooth where the mesh has normals; background NaN)");
     cmd->add_option("--position", args->position, "write world positions x, y, z (.exr; background NaN)");
     cmd->add_option("--views", args->views,
-                    "render every camera of a views file (JSON) in one batch; {view} in output names is the view");
+                    "render every camera of a views file in one batch: clvis's JSON, NeRF's transforms.json, a COLMAP "
+                    "text model's folder, or a glTF file's camera nodes (--width, --height where the file gives no "
+                    "size); {view} in output names is the view");
     cmd->add_option("--flow", args->flow,
                     "with --views: write the flow from each view to the next (.exr: flow.x, flow.y, flow.valid, "
                     "flow.occluded); the name must contain {view}, the first view of each pair");

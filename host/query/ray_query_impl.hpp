@@ -31,6 +31,7 @@ struct RayQuery::Impl {
         std::uint32_t* counts = nullptr;
     } all;
     cl::Kernel generate_ao, generate_shadow;
+    cl::Kernel generate_primary; ///< RayQuery::primary_rays (host/query/primary_rays.cpp)
     std::size_t capacity = 0;     ///< rays the staging buffers hold (the SoA stride)
     cl::Buffer staged_rays;       ///< capacity rays, AoS or SoA
     cl::Buffer staged_out;        ///< capacity hits, flags or counts; all hits: staged_out_bytes

@@ -1,7 +1,8 @@
 // The JSON scene file (meshes, transforms or instances, camera, image size) and the JSON views file
 // (one size, many cameras): parse_scene_file and parse_views_file read them from memory through one
 // reader whose camera fields go through the one table of camera_spec.cpp; load_scene_file and
-// load_views_file read them from disk. Format dispatch for meshes is host/scene/scene_io.cpp.
+// load_views_file (host/scene/views_import.cpp, which reads other tools' cameras too) read them
+// from disk. Format dispatch for meshes is host/scene/scene_io.cpp.
 #include "scene/scene_parsers.hpp"
 
 #include <clvis/scene_io.hpp>
@@ -294,14 +295,6 @@ SceneFile load_scene_file(const std::string& path)
 {
     std::string text = detail::read_file(path);
     return detail::parse_scene_file(text, path, load_mesh);
-}
-
-ViewsFile load_views_file(const std::string& path)
-{
-    std::string text = detail::read_file(path);
-    ViewsFile out = detail::parse_views_file(text, path);
-    out.path = path;
-    return out;
 }
 
 bool ViewsFile::moves() const

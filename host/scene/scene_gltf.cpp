@@ -111,7 +111,11 @@ std::vector<std::uint32_t> assemble(const std::vector<std::uint32_t>& order, int
 
 class Walker {
 public:
-    Walker(const tinygltf::Model& model, const std::string& name) : model_(model), name_(name) {}
+    /// `need_triangles`: a file without triangles is an error (false: the camera reader's walk).
+    Walker(const tinygltf::Model& model, const std::string& name, bool need_triangles = true)
+        : model_(model), name_(name), need_triangles_(need_triangles)
+    {
+    }
 
     GltfScene run()
     {
@@ -138,10 +142,10 @@ public:
                 if (!std::isfinite(v)) fail(name_, at + ": the transform along the path overflows");
             if (n.skin >= 0) note(at + ": skin ignored, the mesh is drawn in its bind pose");
             if (n.mesh >= 0) items(std::size_t(node), n.mesh, world);
-            if (n.camera >= 0) camera(at, n.camera);
+            if (n.camera >= 0) camera(at, n.camera, std::size_t(node), world);
             for (auto it = n.children.rbegin(); it != n.children.rend(); ++it) stack.emplace_back(*it, world);
         }
-        if (out_.items.empty()) {
+        if (out_.items.empty() && need_triangles_) {
             std::string why;
             for (const std::string& s : out_.notes) why += (why.empty() ? " (" : "; ") + s;
             fail(name_, "contains no triangles" + (why.empty() ? std::string() : why + ")"));
@@ -154,14 +158,30 @@ private:
     void note(const std::string& s) { out_.notes.push_back(s); }
 
     /// "nodes[3] (cameras[0] \"Main\", perspective)", listed in one note at the end of the walk.
-    void camera(const std::string& at, int camera)
+    /// The node is kept in out_.cameras with the camera's parameters when the camera exists.
+    void camera(const std::string& at, int camera, std::size_t node, const Mat4& world)
     {
         std::string what = "cameras[" + std::to_string(camera) + "]";
         if (std::size_t(camera) < model_.cameras.size()) {
             const tinygltf::Camera& c = model_.cameras[std::size_t(camera)];
             if (!c.name.empty()) what += " \"" + c.name + "\"";
             if (!c.type.empty()) what += ", " + c.type;
+            GltfScene::CameraNode k;
+            k.node = node;
+            k.camera = camera;
+            k.transform = world;
+            k.name = c.name;
+            k.orthographic = c.type == "orthographic";
+            k.yfov = c.perspective.yfov;
+            k.ymag = c.orthographic.ymag;
+            k.znear = k.orthographic ? c.orthographic.znear : c.perspective.znear;
+            k.zfar = k.orthographic ? c.orthographic.zfar : c.perspective.zfar;
+            if (k.orthographic || c.type == "perspective") out_.cameras.push_back(k);
+            else if (!need_triangles_)
+                fail(name_, "cameras[" + std::to_string(camera) + "].type: '" + c.type +
+                                "' is neither perspective nor orthographic");
         } else {
+            if (!need_triangles_) fail(name_, at + ".camera: " + std::to_string(camera) + " does not exist");
             what += " (does not exist)";
         }
         cameras_ += (cameras_.empty() ? "" : ", ") + at + " (" + what + ")";
@@ -262,6 +282,7 @@ private:
     const std::string& name_;
     GltfScene out_;
     std::map<std::pair<int, std::size_t>, std::optional<std::size_t>> prototypes_;
+    bool need_triangles_;
     std::uint64_t triangles_ = 0;
     std::string cameras_; ///< the camera nodes met in the walk
 };
@@ -274,9 +295,20 @@ GltfScene parse_gltf(std::string_view bytes, const std::string& name, bool read_
     return Walker(model, name).run();
 }
 
+GltfScene parse_gltf_cameras(std::string_view bytes, const std::string& name, bool read_files)
+{
+    tinygltf::Model model = load_gltf_model(bytes, name, read_files);
+    return Walker(model, name, false).run();
+}
+
 #else
 
 GltfScene parse_gltf(std::string_view, const std::string& name, bool)
+{
+    fail(name, "cannot read glTF: this build of clvis was made without tinygltf (Debian: libtinygltf-dev)");
+}
+
+GltfScene parse_gltf_cameras(std::string_view, const std::string& name, bool)
 {
     fail(name, "cannot read glTF: this build of clvis was made without tinygltf (Debian: libtinygltf-dev)");
 }

@@ -28,6 +28,9 @@ MeshData parse_stl(std::string_view bytes, const std::string& name);
 /// read from the file's folder only when `read_files` (the fuzz targets pass false); data URIs
 /// always work.
 GltfScene parse_gltf(std::string_view bytes, const std::string& name, bool read_files);
+/// The same walk for the camera reader (host/scene/views_gltf.cpp): a file without triangles is
+/// no error, a camera node naming no camera is one, and out.cameras holds every camera node.
+GltfScene parse_gltf_cameras(std::string_view bytes, const std::string& name, bool read_files);
 /// The items of a glTF scene in id order as one mesh, positions transformed in double and rounded
 /// once (the bits Scene gives the same items as meshes with transforms).
 MeshData flatten_gltf(const GltfScene& gltf, const std::string& name);

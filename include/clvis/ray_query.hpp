@@ -90,6 +90,15 @@ public:
     RayQueryStats closest(const RayInput& rays, const HitSoA& hits);
     RayQueryStats closest(const RayInput& rays, const DeviceResults& hits);
 
+    /// The primary rays of `camera` for a width x height image at `samples` per pixel, written on
+    /// the device into `out` (a buffer of the renderer's context holding at least width * height *
+    /// samples rays, AoS or SoA) by the kernels' own operations: the records clvis::primary_rays
+    /// (include/clvis/primary_rays.hpp) computes on the host, bit for bit, with no transfer, so
+    /// that closest() of them gives the ray path's render (CONVENTIONS.md "Primary rays as
+    /// arrays"). Returns when they are written. Throws Error(InvalidArgument) as primary_rays
+    /// does, and for a buffer too small or of another context.
+    void primary_rays(const Camera& camera, int width, int height, int samples, const DeviceRays& out);
+
     /// 1 per ray with a hit in [tmin, tmax], else 0.
     RayQueryStats occluded(const RayInput& rays, std::uint8_t* flags);
     RayQueryStats occluded(const RayInput& rays, const DeviceResults& flags);

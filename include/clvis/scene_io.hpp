@@ -58,8 +58,21 @@ struct GltfScene {
     std::vector<Item> items;        ///< in id order
     /// What was skipped and why (points and lines, no POSITION, skins, morph targets), and one
     /// note listing the camera nodes of the scene ("cameras ignored ...: nodes[3] (cameras[0]
-    /// \"Main\", perspective)"), which clvis does not use.
+    /// \"Main\", perspective)"), which a mesh load does not use (load_views_file reads them as views).
     std::vector<std::string> notes;
+    /// A camera node met in the walk (CONVENTIONS.md "Cameras from other tools"): which camera,
+    /// at which world transform, and the camera's parameters as the file gives them.
+    struct CameraNode {
+        std::size_t node = 0;      ///< the glTF node that holds it
+        int camera = 0;            ///< index into the file's cameras (checked: it exists)
+        Mat4 transform;            ///< product of the node transforms along the path
+        std::string name;          ///< the camera's name, may be empty
+        bool orthographic = false; ///< else perspective
+        double yfov = 0;           ///< perspective: vertical field of view, radians
+        double ymag = 0;           ///< orthographic: half the view height
+        double znear = 0, zfar = 0; ///< zfar 0: not given (perspective only)
+    };
+    std::vector<CameraNode> cameras; ///< in the order of the walk
 
     std::uint64_t triangle_count() const;
 };

@@ -123,6 +123,10 @@ void bind_errors(nb::module_& m);
 void bind_devices(nb::module_& m);
 void bind_scene(nb::module_& m);
 void bind_camera(nb::module_& m);
+/// Camera.rays (python/src/views.cpp), called by bind_camera.
+void bind_camera_rays(nb::class_<Camera>& c);
+/// read_views (python/src/views.cpp).
+void bind_views(nb::module_& m);
 void bind_render(nb::module_& m);
 void bind_referee(nb::module_& m);
 /// Ray queries (queries.cpp) and visibility outputs (outputs.cpp) as Renderer methods.

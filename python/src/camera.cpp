@@ -177,6 +177,7 @@ void bind_camera(nb::module_& m)
         "Example:\n    cam = clvis.Camera.framing(scene.bounds())");
     bind_camera_queries(c);
     bind_camera_makers(c);
+    bind_camera_rays(c);
 }
 
 } // namespace clvis::python

@@ -15,6 +15,7 @@ NB_MODULE(_clvis, m)
     bind_devices(m);
     bind_scene(m);
     bind_camera(m);
+    bind_views(m);
     bind_render(m);
     bind_ray_query(m);
     bind_multi_device(m);
