@@ -43,7 +43,7 @@ struct Renderer::Impl {
         uploaded = true;
         return gpu;
     }
-    void upload_positions(std::size_t first_vertex, std::size_t count);
+    void upload_positions(std::size_t item, std::size_t first_vertex);
     /// The scene with instances without its expansion, uploaded on first use (again after an update).
     detail::InstancedScene& item_buffers()
     {
