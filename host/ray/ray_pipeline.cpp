@@ -199,13 +199,12 @@ struct RayPipeline::Impl {
         std::vector<clvis_bvh_node>().swap(bvh.nodes);
     }
 
-    /// Once the flat tree is on the device: frees the host's leaf triangles and 4-wide nodes,
-    /// which only a refit reads again (restore_host_tree).
+    /// Once the 4-wide nodes are on the device: frees the host's, which only a refit reads again
+    /// (restore_host_tree).
     void release_host_tree()
     {
         wide_nodes = wide.nodes.size();
         std::vector<clvis_bvh4_node>().swap(wide.nodes);
-        std::vector<clvis_bvh_tri>().swap(bvh.tris);
     }
 
     /// The host tree release_host_tree freed, for a refit: binary nodes from the topology (boxes
@@ -239,15 +238,19 @@ struct RayPipeline::Impl {
                 put(level_tris, levels.tris(), "triangles", queue);
                 put(instances, levels.instances(), "instances", queue);
             } else {
+                // One large piece on the host at a time beside the device's: the binary boxes
+                // dropped, the 4-wide nodes uploaded and freed, then the leaf triangles gathered.
                 check_nodes(wide.nodes.size());
                 compact_binary();
+                put(nodes, wide.nodes, "nodes", queue);
+                queue.finish();
+                release_host_tree();
                 if (world) put_tris(*world, queue);
                 else put(tris, bvh.tris, "triangles", queue);
-                put(nodes, wide.nodes, "nodes", queue);
                 if (!instances()) put(instances, std::vector<clvis_instance>(), "instances", queue);
             }
             queue.finish();
-            if (!levels_too) release_host_tree();
+            if (!levels_too) std::vector<clvis_bvh_tri>().swap(bvh.tris);
         } catch (const cl::Error& e) {
             throw_cl_error(e, "uploading the BVH to " + device.info.name);
         }

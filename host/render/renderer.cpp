@@ -67,20 +67,27 @@ std::vector<float> world_normals(const Scene& scene)
 
 } // namespace
 
-void Renderer::Impl::upload_all()
+void Renderer::Impl::check_scene_fits()
 {
-    // The expansion made for this upload and freed after it (or the mesh's own arrays): the
-    // Scene's cached world_positions() would keep a second host copy for the Renderer's life.
-    WorldMesh world = world_mesh(scene);
-    const std::size_t position_count = scene.vertex_count() * 3, index_count = scene.triangle_count() * 3;
-    std::uint64_t pos_bytes = std::max<std::uint64_t>(position_count * 4, 16);
-    std::uint64_t idx_bytes = std::max<std::uint64_t>(index_count * 4, 16);
+    std::uint64_t pos_bytes = std::max<std::uint64_t>(scene.vertex_count() * 3 * 4, 16);
+    std::uint64_t idx_bytes = std::max<std::uint64_t>(scene.triangle_count() * 3 * 4, 16);
     dev().check_allocation(pos_bytes, "the scene's " + std::to_string(scene.vertex_count()) + " vertices");
     dev().check_allocation(idx_bytes, "the scene's " + std::to_string(scene.triangle_count()) + " triangles");
     if (pos_bytes * 2 + idx_bytes > dev().info.global_memory)
         throw Error(Error::Kind::Limit, "the scene (" + std::to_string(scene.triangle_count()) +
                                             " triangles) does not fit in " + dev().info.name + "'s " +
                                             std::to_string(dev().info.global_memory) + " bytes");
+}
+
+void Renderer::Impl::upload_all()
+{
+    check_scene_fits();
+    // The expansion made for this upload and freed after it (or the mesh's own arrays): the
+    // Scene's cached world_positions() would keep a second host copy for the Renderer's life.
+    WorldMesh world = world_mesh(scene);
+    const std::size_t position_count = scene.vertex_count() * 3, index_count = scene.triangle_count() * 3;
+    std::uint64_t pos_bytes = std::max<std::uint64_t>(position_count * 4, 16);
+    std::uint64_t idx_bytes = std::max<std::uint64_t>(index_count * 4, 16);
     try {
         gpu.triangle_count = std::uint32_t(scene.triangle_count());
         gpu.vertex_count = std::uint32_t(scene.vertex_count());
@@ -174,10 +181,12 @@ Renderer::Renderer(Device device, const Scene& scene, RenderOptions options) : i
         impl_->options = options;
         impl_->scene = scene;
         impl_->queue = impl_->dev().make_queue();
-        // A plain scene is uploaded now (errors surface here); one with instances when a path
-        // that reads the expansion first runs.
+        // A plain scene is checked against the device now (errors surface here) and uploaded when
+        // a path that reads it first runs (raster, brute, shading): the ray path's BVH holds its
+        // own copy of the triangles, so a ray-only Renderer never holds both (issue 37). One with
+        // instances: its expansion likewise.
         for (const Scene::Mesh& item : scene.meshes()) impl_->instanced |= item.prototype != Scene::no_prototype;
-        if (!impl_->instanced) impl_->scene_buffers();
+        if (!impl_->instanced) impl_->check_scene_fits();
     });
 }
 
