@@ -396,5 +396,5 @@ TEST_CASE("the raster path of an instanced scene never uploads the expansion", "
     CHECK(same_bits(after, re.render(cam, 96, 64, Path::Raster).read()));
     CHECK_FALSE(same_bits(after, got));
     CHECK_FALSE(detail::expansion_uploaded(r));
-    CHECK(detail::expansion_uploaded(re)); // a plain scene uploads at construction
+    CHECK(detail::expansion_uploaded(re)); // a plain scene's raster path uploads it
 }

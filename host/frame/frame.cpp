@@ -3,10 +3,51 @@
 #include "frame/frame.hpp"
 
 #include "runtime/cl_runtime.hpp"
+#include "scene/instance_transform.hpp"
+#include "scene/scene_probe.hpp"
+
+#include <clvis/error.hpp>
 
 #include <algorithm>
+#include <cmath>
 
 namespace clvis::detail {
+
+void item_world_positions(const Scene& scene, std::size_t item, float* out)
+{
+    const MeshData& data = scene.data_of(item);
+    transform_positions(scene.meshes()[item].transform, data.positions.data(), data.vertex_count(), out);
+    for (std::size_t i = 0; i < data.positions.size(); ++i)
+        if (!std::isfinite(out[i]))
+            throw Error(Error::Kind::InvalidArgument, "mesh '" + data.name + "': a transformed vertex overflows float32");
+}
+
+WorldMesh world_mesh(const Scene& scene)
+{
+    WorldMesh w;
+    const auto& items = scene.meshes();
+    if (items.size() == 1 && items[0].transform.is_identity()) { // the mesh's own bits: nothing to copy
+        w.positions = scene.data_of(0).positions.data();
+        w.indices = scene.data_of(0).indices.data();
+        return w;
+    }
+    w.own_positions.resize(scene.vertex_count() * 3);
+    if (items.size() != 1) w.own_indices.resize(scene.triangle_count() * 3);
+    bool instances = false;
+    std::size_t v = 0, t = 0;
+    for (std::size_t k = 0; k < items.size(); ++k) {
+        const MeshData& data = scene.data_of(k);
+        item_world_positions(scene, k, &w.own_positions[v * 3]);
+        if (items.size() != 1)
+            for (std::uint32_t index : data.indices) w.own_indices[t++] = index + std::uint32_t(v);
+        v += data.vertex_count();
+        instances |= items[k].prototype != Scene::no_prototype;
+    }
+    if (instances) expansion_vertices_built += scene.vertex_count(); // as Scene::world_positions() counts it
+    w.positions = w.own_positions.data();
+    w.indices = items.size() == 1 ? scene.data_of(0).indices.data() : w.own_indices.data();
+    return w;
+}
 
 clvis_camera_gpu make_gpu_camera(const Camera& camera, int width, int height)
 {

@@ -37,6 +37,22 @@ struct DeviceScene {
     void set_args(cl::Kernel& kernel, cl_uint first) const;
 };
 
+/// The scene's world positions and indices with the bits of Scene::world_positions() and
+/// world_indices(), without that cache (which would keep the expansion for the scene's life):
+/// borrowed from the mesh where the scene is one untransformed item (an identity transform keeps
+/// the bits), else expanded here and freed with this object. Moving it keeps the pointers.
+struct WorldMesh {
+    const float* positions = nullptr;      ///< 3 floats per vertex, world space
+    const std::uint32_t* indices = nullptr; ///< 3 per triangle, into positions, id order
+    std::vector<float> own_positions;       ///< the expansion, where made here
+    std::vector<std::uint32_t> own_indices;
+};
+/// Error(InvalidArgument) as Scene::world_positions() gives it for a vertex that overflows float32.
+WorldMesh world_mesh(const Scene& scene);
+/// Writes item `item`'s world positions (transform applied: world_positions()'s bits) to `out`
+/// (3 floats per vertex), with world_positions()'s overflow check.
+void item_world_positions(const Scene& scene, std::size_t item, float* out);
+
 struct InstancedScene; // frame/instanced_scene.hpp
 
 /// Collects the profiling events of a frame's kernels by stage name.

@@ -18,6 +18,8 @@ namespace {
 constexpr int default_tile_log2 = 4;
 /// The probe's first capacities (set_raster_first_capacities; 0: the defaults).
 std::atomic<std::size_t> probe_tri_capacity{0}, probe_entry_capacity{0};
+/// Bytes of host zeros that make_buffer writes a buffer from, a block at a time.
+constexpr std::size_t zero_block = std::size_t(1) << 20;
 
 std::size_t floor_pow2(std::size_t v)
 {
@@ -90,8 +92,19 @@ void RasterPipeline::Impl::plan_fine_chunks()
 
 cl::Buffer RasterPipeline::Impl::make_buffer(std::size_t bytes) const
 {
-    std::vector<unsigned char> zeros(bytes, 0);
-    return cl::Buffer(device.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, bytes, zeros.data());
+    // Zeroed from one small block of host zeros, a write per block on a queue of its own (finished
+    // before the buffer is used): no host copy of the buffer's size, which on a CPU device (whose
+    // buffers are host memory) doubled the peak of a large list for a moment (issue 37).
+    static const std::vector<unsigned char> zeros(zero_block, 0);
+    if (bytes <= zero_block)
+        return cl::Buffer(device.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, bytes,
+                          const_cast<unsigned char*>(zeros.data()));
+    cl::Buffer buffer(device.context, CL_MEM_READ_WRITE, bytes);
+    cl::CommandQueue queue(device.context, device.device);
+    for (std::size_t at = 0; at < bytes; at += zero_block)
+        queue.enqueueWriteBuffer(buffer, CL_FALSE, at, std::min(zero_block, bytes - at), zeros.data());
+    queue.finish();
+    return buffer;
 }
 
 void RasterPipeline::Impl::reserve(cl::Buffer& buffer, std::size_t& capacity, std::size_t needed, std::size_t size,

@@ -262,10 +262,9 @@ clvis_bvh_tri make_tri(const float* positions, const std::uint32_t* indices, std
 /// triangles overlap.
 template <class IdOf>
 void gather_tris(const float* positions, const std::uint32_t* indices, unsigned threads, IdOf id_of,
-                 std::vector<clvis_bvh_tri>& tris)
+                 clvis_bvh_tri* tris, std::size_t n)
 {
     constexpr std::size_t index_ahead = 16, vertex_ahead = 8;
-    std::size_t n = tris.size();
     unsigned parts = unsigned(std::min<std::size_t>(threads, std::max<std::size_t>(1, n / 16384)));
     auto slice = [&](unsigned, std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) {
@@ -338,19 +337,38 @@ Bvh build_bvh(const float* positions, const std::uint32_t* indices, std::size_t 
         out.sah_cost = bvh_sah_cost(out.nodes);
         if (wide) *wide = collapse_bvh4(out, aligned);
     };
+    if (!options.gather) {
+        // The ids alone, the scratch freed, then the collapse: the leaf triangles (48 bytes each)
+        // are the caller's to gather where it keeps them.
+        out.ids.resize(triangle_count);
+        parallel_slices(triangle_count, parts, [&](unsigned, std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i) out.ids[i] = prims[i].id();
+        });
+        std::vector<Prim>().swap(prims);
+        totals_of();
+        return out;
+    }
     TaskGroup totals;
     if (triangle_count >= Builder::min_parallel) totals.run(totals_of);
     else totals_of();
     out.tris.resize(triangle_count);
-    gather_tris(positions, indices, threads, [&](std::size_t i) { return prims[i].id(); }, out.tris);
+    gather_tris(positions, indices, threads, [&](std::size_t i) { return prims[i].id(); }, out.tris.data(),
+                out.tris.size());
     totals.wait();
     return out;
+}
+
+void gather_bvh_tris(const float* positions, const std::uint32_t* indices, const std::uint32_t* ids,
+                     std::size_t count, clvis_bvh_tri* out, unsigned threads)
+{
+    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+    gather_tris(positions, indices, threads, [ids](std::size_t i) { return ids[i]; }, out, count);
 }
 
 void refit_bvh(Bvh& bvh, const float* positions, const std::uint32_t* indices)
 {
     gather_tris(positions, indices, std::max(1u, std::thread::hardware_concurrency()),
-                [&](std::size_t i) { return bvh.tris[i].id; }, bvh.tris);
+                [&](std::size_t i) { return bvh.tris[i].id; }, bvh.tris.data(), bvh.tris.size());
     // Depth-first order puts children after their parent: one backward pass sees children first.
     for (std::size_t i = bvh.nodes.size(); i-- > 0;) {
         clvis_bvh_node& n = bvh.nodes[i];

@@ -28,6 +28,11 @@ struct BvhBuildOptions : BvhOptions {
     /// collapse_bvh4's `aligned`, most 4-wide nodes are full, as the instances' top level wants
     /// it (bvh_instances.cpp).
     bool full_leaves = false;
+    /// false: build_bvh leaves Bvh::tris empty and gives the leaf slots' triangle ids in
+    /// Bvh::ids instead (4 bytes a triangle, not 48), freeing its build scratch before the
+    /// collapse; the caller gathers the slots where it needs them (gather_bvh_tris), e.g. straight
+    /// into a device buffer a block at a time (ray_pipeline.cpp, issue 37's memory).
+    bool gather = true;
 };
 
 /// Depth (nodes on a root-to-leaf path) past which the build splits at the median, so that a
@@ -38,6 +43,7 @@ constexpr int bvh_max_sah_depth = 48;
 struct Bvh {
     std::vector<clvis_bvh_node> nodes;   ///< depth-first; empty for a scene without triangles
     std::vector<clvis_bvh_tri> tris;     ///< leaf slots: each leaf's triangles contiguous
+    std::vector<std::uint32_t> ids;      ///< built without gather: the leaf slots' triangle ids (tris empty)
     std::size_t leaves = 0;
     int depth = 0;                       ///< nodes on the longest root-to-leaf path
     double sah_cost = 0;                 ///< see bvh_sah_cost
@@ -66,6 +72,11 @@ void refit_bvh4(Bvh4& wide, const Bvh& bvh);
 /// beside the copy of the leaf triangles, so the same result as the two calls in less time.
 Bvh build_bvh(const float* positions, const std::uint32_t* indices, std::size_t triangle_count,
               const BvhBuildOptions& options, Bvh4* wide = nullptr);
+
+/// Writes leaf slots [0, count) of `ids` to `out` as build_bvh gathers Bvh::tris (the same bits),
+/// on `threads` threads (0: the machine's hardware threads).
+void gather_bvh_tris(const float* positions, const std::uint32_t* indices, const std::uint32_t* ids,
+                     std::size_t count, clvis_bvh_tri* out, unsigned threads = 0);
 
 /// Recomputes every box bottom-up and the leaf triangles' vertices from moved `positions`
 /// (same indices): the topology stays.

@@ -40,6 +40,9 @@ constexpr std::array<std::array<std::size_t, 2>, 5> group_choices{{{4, 4}, {4, 2
 /// cap it.
 constexpr std::size_t single_group_items = 64;
 
+/// Leaf triangles gathered per write of the flat tree's upload (3 MB of host staging).
+constexpr std::size_t tri_block = std::size_t(1) << 16;
+
 /// The build option that selects the coverage mode of ray_trace.cl and ray_brute.cl.
 std::string coverage_define(Coverage coverage)
 {
@@ -60,8 +63,15 @@ struct RayPipeline::Impl {
     cl::Kernel trace, trace_views, brute;
     cl::NDRange trace_group, views_group, brute_group; ///< work-items per work-group
     int trace_stack = 0;                  ///< CLVIS_RAY_STACK of the built trace kernel
-    Bvh bvh;   ///< the binary tree, kept for refits (flat: a scene without instances)
-    Bvh4 wide; ///< what the kernel reads
+    /// The binary tree, kept for refits (flat: a scene without instances). Between builds and
+    /// refits it holds only what a refit reads: each node's first and count (its boxes, which a
+    /// refit recomputes, freed: `topology`) and the leaf slots' ids (bvh.ids; tris empty).
+    Bvh bvh;
+    std::vector<std::array<std::uint32_t, 2>> topology;
+    /// What the kernel reads; its nodes are freed on the host once uploaded (read back for a
+    /// refit), its source and depth kept. wide_nodes: their count.
+    Bvh4 wide;
+    std::size_t wide_nodes = 0;
     bool built = false;
     cl::Buffer nodes, tris;
     BvhStats stats;
@@ -139,7 +149,7 @@ struct RayPipeline::Impl {
     void set_tree_args(cl::Kernel& k)
     {
         k.setArg(1, two_level ? level_nodes : nodes);
-        k.setArg(2, cl_uint(two_level ? levels.nodes().size() : wide.nodes.size()));
+        k.setArg(2, cl_uint(two_level ? levels.nodes().size() : wide_nodes));
         k.setArg(3, two_level ? level_tris : tris);
         k.setArg(7, instances);
         k.setArg(8, cl_int(two_level));
@@ -164,8 +174,61 @@ struct RayPipeline::Impl {
             throw Error(Error::Kind::Limit, "the BVH's " + std::to_string(count) + " nodes exceed the ray kernel's 2^30 - 1");
     }
 
-    /// Uploads the flat BVH (nodes, tris), or with `levels_too` the two-level one.
-    void upload(cl::CommandQueue& queue, bool levels_too)
+    /// Gathers the leaf triangles of bvh.ids from `world` straight into `tris`, a block at a time:
+    /// no host copy of all of them (48 bytes a triangle) beside the device's.
+    void put_tris(const WorldMesh& world, cl::CommandQueue& queue)
+    {
+        const std::vector<std::uint32_t>& ids = bvh.ids;
+        std::uint64_t bytes = std::max<std::uint64_t>(ids.size(), 1) * sizeof(clvis_bvh_tri);
+        device.check_allocation(bytes, "the BVH's " + std::to_string(ids.size()) + " triangles");
+        if (!tris() || tris.getInfo<CL_MEM_SIZE>() != bytes) tris = cl::Buffer(device.context, CL_MEM_READ_ONLY, bytes);
+        std::vector<clvis_bvh_tri> block(std::min(ids.size(), tri_block));
+        for (std::size_t at = 0; at < ids.size(); at += tri_block) {
+            std::size_t n = std::min(tri_block, ids.size() - at);
+            gather_bvh_tris(world.positions, world.indices, ids.data() + at, n, block.data());
+            queue.enqueueWriteBuffer(tris, CL_TRUE, at * sizeof(clvis_bvh_tri), n * sizeof(clvis_bvh_tri), block.data());
+        }
+    }
+
+    /// Keeps of the binary nodes only what a refit reads (first and count; it recomputes every
+    /// box): 8 bytes a node, not 32, before the upload.
+    void compact_binary()
+    {
+        topology.resize(bvh.nodes.size());
+        for (std::size_t i = 0; i < bvh.nodes.size(); ++i) topology[i] = {bvh.nodes[i].first, bvh.nodes[i].count};
+        std::vector<clvis_bvh_node>().swap(bvh.nodes);
+    }
+
+    /// Once the 4-wide nodes are on the device: frees the host's, which only a refit reads again
+    /// (restore_host_tree).
+    void release_host_tree()
+    {
+        wide_nodes = wide.nodes.size();
+        std::vector<clvis_bvh4_node>().swap(wide.nodes);
+    }
+
+    /// The host tree release_host_tree freed, for a refit: binary nodes from the topology (boxes
+    /// zero: a refit recomputes every one), leaf slots named by their ids, 4-wide nodes read back.
+    void restore_host_tree(cl::CommandQueue& queue)
+    {
+        bvh.nodes.assign(topology.size(), clvis_bvh_node{});
+        for (std::size_t i = 0; i < topology.size(); ++i) {
+            bvh.nodes[i].first = topology[i][0];
+            bvh.nodes[i].count = topology[i][1];
+        }
+        bvh.tris.assign(bvh.ids.size(), clvis_bvh_tri{});
+        for (std::size_t i = 0; i < bvh.ids.size(); ++i) bvh.tris[i].id = bvh.ids[i];
+        wide.nodes.resize(wide_nodes);
+        try {
+            if (wide_nodes) queue.enqueueReadBuffer(nodes, CL_TRUE, 0, wide_nodes * sizeof(clvis_bvh4_node), wide.nodes.data());
+        } catch (const cl::Error& e) {
+            throw_cl_error(e, "reading the BVH back from " + device.info.name);
+        }
+    }
+
+    /// Uploads the flat BVH (nodes, tris: gathered from `world` where given, else bvh.tris), or
+    /// with `levels_too` the two-level one.
+    void upload(cl::CommandQueue& queue, bool levels_too, const WorldMesh* world = nullptr)
     {
         auto t0 = std::chrono::steady_clock::now();
         try {
@@ -175,12 +238,19 @@ struct RayPipeline::Impl {
                 put(level_tris, levels.tris(), "triangles", queue);
                 put(instances, levels.instances(), "instances", queue);
             } else {
+                // One large piece on the host at a time beside the device's: the binary boxes
+                // dropped, the 4-wide nodes uploaded and freed, then the leaf triangles gathered.
                 check_nodes(wide.nodes.size());
+                compact_binary();
                 put(nodes, wide.nodes, "nodes", queue);
-                put(tris, bvh.tris, "triangles", queue);
+                queue.finish();
+                release_host_tree();
+                if (world) put_tris(*world, queue);
+                else put(tris, bvh.tris, "triangles", queue);
                 if (!instances()) put(instances, std::vector<clvis_instance>(), "instances", queue);
             }
             queue.finish();
+            if (!levels_too) std::vector<clvis_bvh_tri>().swap(bvh.tris);
         } catch (const cl::Error& e) {
             throw_cl_error(e, "uploading the BVH to " + device.info.name);
         }
@@ -210,10 +280,12 @@ struct RayPipeline::Impl {
         return o;
     }
 
-    void build_flat(const Scene& scene)
+    /// Builds the flat tree of `world` without gathering its leaf triangles (upload gathers them).
+    void build_flat(const Scene& scene, const WorldMesh& world)
     {
-        bvh = build_bvh(scene.world_positions().data(), scene.world_indices().data(), scene.triangle_count(),
-                        build_options(), &wide);
+        BvhBuildOptions o = build_options();
+        o.gather = false;
+        bvh = build_bvh(world.positions, world.indices, scene.triangle_count(), o, &wide);
     }
 
     /// Builds everything `scene` needs: the flat BVH, or the two levels (prototype trees reused).
@@ -228,10 +300,13 @@ struct RayPipeline::Impl {
             prepare_trace();
             upload(queue, true);
         } else {
-            build_flat(scene);
+            // The world positions for this build and upload only (the mesh's own where it is one
+            // untransformed mesh), not the Scene's cached expansion.
+            WorldMesh world = world_mesh(scene);
+            build_flat(scene, world);
             fill_stats(ms_since(t0), false); // the upload is timed on its own (upload_ms)
             prepare_trace();
-            upload(queue, false);
+            upload(queue, false, &world);
         }
         built = true;
     }
@@ -265,12 +340,14 @@ void RayPipeline::update(const Scene& scene, cl::CommandQueue& queue)
 {
     Impl& m = *impl_;
     if (!m.built || m.two_level || m.options.bvh.update == BvhUpdate::Rebuild ||
-        m.bvh.tris.size() != scene.triangle_count()) {
+        m.bvh.ids.size() != scene.triangle_count()) {
         m.rebuild(scene, queue);
         return;
     }
     auto t0 = std::chrono::steady_clock::now();
-    refit_bvh(m.bvh, scene.world_positions().data(), scene.world_indices().data());
+    WorldMesh world = world_mesh(scene);
+    m.restore_host_tree(queue);
+    refit_bvh(m.bvh, world.positions, world.indices);
     refit_bvh4(m.wide, m.bvh);
     m.fill_stats(ms_since(t0), true);
     m.upload(queue, false);
@@ -283,7 +360,7 @@ const cl::Buffer& RayPipeline::nodes() const { return impl_->two_level ? impl_->
 const cl::Buffer& RayPipeline::triangles() const { return impl_->two_level ? impl_->level_tris : impl_->tris; }
 std::uint32_t RayPipeline::node_count() const
 {
-    return std::uint32_t(impl_->two_level ? impl_->levels.nodes().size() : impl_->wide.nodes.size());
+    return std::uint32_t(impl_->two_level ? impl_->levels.nodes().size() : impl_->wide_nodes);
 }
 const cl::Buffer& RayPipeline::instances() const { return impl_->instances; }
 bool RayPipeline::two_level() const { return impl_->two_level; }

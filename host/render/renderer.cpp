@@ -67,25 +67,34 @@ std::vector<float> world_normals(const Scene& scene)
 
 } // namespace
 
-void Renderer::Impl::upload_all()
+void Renderer::Impl::check_scene_fits()
 {
-    const auto& positions = scene.world_positions();
-    const auto& indices = scene.world_indices();
-    std::uint64_t pos_bytes = std::max<std::uint64_t>(positions.size() * 4, 16);
-    std::uint64_t idx_bytes = std::max<std::uint64_t>(indices.size() * 4, 16);
+    std::uint64_t pos_bytes = std::max<std::uint64_t>(scene.vertex_count() * 3 * 4, 16);
+    std::uint64_t idx_bytes = std::max<std::uint64_t>(scene.triangle_count() * 3 * 4, 16);
     dev().check_allocation(pos_bytes, "the scene's " + std::to_string(scene.vertex_count()) + " vertices");
     dev().check_allocation(idx_bytes, "the scene's " + std::to_string(scene.triangle_count()) + " triangles");
     if (pos_bytes * 2 + idx_bytes > dev().info.global_memory)
         throw Error(Error::Kind::Limit, "the scene (" + std::to_string(scene.triangle_count()) +
                                             " triangles) does not fit in " + dev().info.name + "'s " +
                                             std::to_string(dev().info.global_memory) + " bytes");
+}
+
+void Renderer::Impl::upload_all()
+{
+    check_scene_fits();
+    // The expansion made for this upload and freed after it (or the mesh's own arrays): the
+    // Scene's cached world_positions() would keep a second host copy for the Renderer's life.
+    WorldMesh world = world_mesh(scene);
+    const std::size_t position_count = scene.vertex_count() * 3, index_count = scene.triangle_count() * 3;
+    std::uint64_t pos_bytes = std::max<std::uint64_t>(position_count * 4, 16);
+    std::uint64_t idx_bytes = std::max<std::uint64_t>(index_count * 4, 16);
     try {
         gpu.triangle_count = std::uint32_t(scene.triangle_count());
         gpu.vertex_count = std::uint32_t(scene.vertex_count());
         gpu.positions = cl::Buffer(dev().context, CL_MEM_READ_ONLY, pos_bytes);
         gpu.indices = cl::Buffer(dev().context, CL_MEM_READ_ONLY, idx_bytes);
-        if (!positions.empty()) queue.enqueueWriteBuffer(gpu.positions, CL_FALSE, 0, positions.size() * 4, positions.data());
-        if (!indices.empty()) queue.enqueueWriteBuffer(gpu.indices, CL_FALSE, 0, indices.size() * 4, indices.data());
+        if (position_count) queue.enqueueWriteBuffer(gpu.positions, CL_FALSE, 0, position_count * 4, world.positions);
+        if (index_count) queue.enqueueWriteBuffer(gpu.indices, CL_FALSE, 0, index_count * 4, world.indices);
         gpu.has_normals = false;
         for (std::size_t item = 0; item < scene.meshes().size(); ++item)
             gpu.has_normals |= !scene.data_of(item).normals.empty();
@@ -103,11 +112,13 @@ void Renderer::Impl::upload_all()
     }
 }
 
-void Renderer::Impl::upload_positions(std::size_t first_vertex, std::size_t count)
+void Renderer::Impl::upload_positions(std::size_t item, std::size_t first_vertex)
 {
-    const auto& positions = scene.world_positions();
+    // Only this item's vertices through its transform: world_positions()'s bits, nothing cached.
+    std::vector<float> positions(scene.data_of(item).positions.size());
+    item_world_positions(scene, item, positions.data());
     try {
-        queue.enqueueWriteBuffer(gpu.positions, CL_TRUE, first_vertex * 12, count * 12, &positions[first_vertex * 3]);
+        queue.enqueueWriteBuffer(gpu.positions, CL_TRUE, first_vertex * 12, positions.size() * 4, positions.data());
     } catch (const cl::Error& e) {
         throw_cl_error(e, "uploading changed vertices");
     }
@@ -170,10 +181,12 @@ Renderer::Renderer(Device device, const Scene& scene, RenderOptions options) : i
         impl_->options = options;
         impl_->scene = scene;
         impl_->queue = impl_->dev().make_queue();
-        // A plain scene is uploaded now (errors surface here); one with instances when a path
-        // that reads the expansion first runs.
+        // A plain scene is checked against the device now (errors surface here) and uploaded when
+        // a path that reads it first runs (raster, brute, shading): the ray path's BVH holds its
+        // own copy of the triangles, so a ray-only Renderer never holds both (issue 37). One with
+        // instances: its expansion likewise.
         for (const Scene::Mesh& item : scene.meshes()) impl_->instanced |= item.prototype != Scene::no_prototype;
-        if (!impl_->instanced) impl_->scene_buffers();
+        if (!impl_->instanced) impl_->check_scene_fits();
     });
 }
 
@@ -317,7 +330,7 @@ void Renderer::Impl::update(const Scene& now_scene)
     for (std::size_t i = 0, c = 0; i < now.size(); ++i) {
         std::size_t vertices = m.scene.data_of(i).vertex_count();
         if (c < changed.size() && changed[c] == i) {
-            if (m.uploaded) m.upload_positions(first, vertices);
+            if (m.uploaded) m.upload_positions(i, first);
             ++c;
         }
         first += vertices;

@@ -34,16 +34,18 @@ struct Renderer::Impl {
 
     Device::Impl& dev() { return detail::DeviceAccess::of(device, "Renderer"); }
 
+    /// Error(Limit) where the plain scene's positions and indices do not fit on the device.
+    void check_scene_fits();
     void upload_all();
-    /// The expanded scene on the device, uploaded on first use: the ray path of a scene with
-    /// instances never needs it (a scene of 10,000 instances need not fit expanded).
+    /// The expanded scene on the device, uploaded on first use: the ray path never needs it (its
+    /// BVH holds the triangles; a scene of 10,000 instances need not fit expanded).
     detail::DeviceScene& scene_buffers()
     {
         if (!uploaded) upload_all();
         uploaded = true;
         return gpu;
     }
-    void upload_positions(std::size_t first_vertex, std::size_t count);
+    void upload_positions(std::size_t item, std::size_t first_vertex);
     /// The scene with instances without its expansion, uploaded on first use (again after an update).
     detail::InstancedScene& item_buffers()
     {
