@@ -314,9 +314,10 @@ void render_command(RenderArgs a)
     Renderer renderer(device, file.scene, a.options);
     const double renderer_ms = bench::ms_since(t_renderer);
     // The Renderer holds its own copy of the scene; one path needs nothing more of ours (only
-    // --path all's referee does), so the mesh is held once at the BVH build's peak (issue 37).
+    // --path all's referee does, and views that move items), so the mesh is held once at the BVH
+    // build's peak (issue 37).
     const std::size_t triangle_count = file.scene.triangle_count();
-    if (!several) file.scene = Scene();
+    if (!several && !vf.moves()) file.scene = Scene();
 
     std::vector<PathResult> results;
     for (Path p : paths) {
