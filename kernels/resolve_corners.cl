@@ -1,9 +1,9 @@
 /* Object ids and named corner attributes of a visibility buffer (CONVENTIONS.md "Vertex
    attributes", "Object ids"). resolve_objects finds each sample's item by a binary search over
-   the items' first triangle ids; resolve_corners interpolates one attribute's corner values,
-   (1 - u - v) a0 + u a1 + v a2, with barycentrics it computes itself in double where the device
-   has it (the primary ray from the double-precision camera, sent as float pairs), so that they
-   are those of the exact sample. Launched by host/render/resolve_corners.cpp. */
+   the items' first triangle ids; resolve_exact_barycentrics computes the sample's barycentrics in
+   double where the device has it (the primary ray from the double-precision camera, sent as float
+   pairs), once for every attribute; resolve_corners interpolates one attribute's corner values,
+   (1 - u - v) a0 + u a1 + v a2. Launched by host/render/resolve_corners.cpp. */
 #include "shared/resolve.h"
 #include "shared/visibility.h"
 
@@ -36,27 +36,24 @@ static clvis_real param(__global const float* cam, int k)
     return (clvis_real)cam[2 * k] + (clvis_real)cam[2 * k + 1];
 }
 
-/* cam: eye (0-2), r (3-5), u (6-8), f (9-11), fx, fy, cx, cy (12-15), each as a float pair.
-   keys: the buffer's own (the objects' ids); sample_keys: renumbered into positions/indices
-   (host/render/sample_scene.cpp). first: each item's first id; base: where its corner values
-   start in `values` (floats), ~0 for an item without the attribute. */
-__kernel void resolve_corners(__global const ulong* keys, __global const ulong* sample_keys,
-                              __global const uint* objects, __global const float* cam, int ortho, int width,
-                              int height, __global const float* positions, __global const uint* indices,
-                              uint triangle_count, __global const uint* first, __global const ulong* base,
-                              int components, __global const float* values, __global float* out)
+/* The exact barycentrics (u, v) of each sample: the primary ray of CONVENTIONS.md through the pixel
+   centre, as clvis::Camera makes it, meeting the plane of its triangle, in double where the device
+   has it. Stored as float: their rounding moves an attribute by 1e-7 of its corners at most,
+   while the float32 ray's error would move it by far more on a triangle of a pixel or two.
+   cam: eye (0-2), r (3-5), u (6-8), f (9-11), fx, fy, cx, cy (12-15), each as a float pair.
+   sample_keys: renumbered into positions/indices (host/render/sample_scene.cpp). */
+__kernel void resolve_exact_barycentrics(__global const ulong* sample_keys, __global const float* cam, int ortho,
+                                         int width, int height, __global const float* positions,
+                                         __global const uint* indices, uint triangle_count, __global float* bary)
 {
     int x = get_global_id(0), y = get_global_id(1);
     if (x >= width || y >= height) return;
     size_t pixel = (size_t)y * width + x;
-    uint item = objects[pixel];
     uint sid = clvis_key_id(sample_keys[pixel]);
-    ulong at = item == CLVIS_BACKGROUND_ID ? ~(ulong)0 : base[item];
-    if (sid >= triangle_count || at == ~(ulong)0) {
-        for (int j = 0; j < components; ++j) out[(size_t)components * pixel + j] = NAN;
+    if (sid >= triangle_count) {
+        vstore2((float2)(0.0f, 0.0f), pixel, bary);
         return;
     }
-    /* The primary ray of CONVENTIONS.md through the pixel centre, as clvis::Camera makes it. */
     clvis_real sx = ((clvis_real)x + (clvis_real)0.5 - param(cam, 14)) / param(cam, 12);
     clvis_real sy = (param(cam, 15) - ((clvis_real)y + (clvis_real)0.5)) / param(cam, 13);
     clvis_real o[3], d[3];
@@ -82,7 +79,28 @@ __kernel void resolve_corners(__global const ulong* keys, __global const ulong* 
         u = (s[0] * px + s[1] * py + s[2] * pz) / det;
         v = (d[0] * qx + d[1] * qy + d[2] * qz) / det;
     }
-    clvis_real w = (clvis_real)1 - u - v;
+    vstore2((float2)((float)u, (float)v), pixel, bary);
+}
+
+/* One attribute at every sample: (1 - u - v) a0 + u a1 + v a2 of its triangle's corners, NaN on the
+   background and on an item without it. keys: the buffer's own; objects: resolve_objects'; bary:
+   resolve_exact_barycentrics'. first: each item's first id; base: where its corner values start in
+   `values` (floats), ~0 for an item without the attribute. */
+__kernel void resolve_corners(__global const ulong* keys, __global const uint* objects, __global const float* bary,
+                              int width, int height, __global const uint* first, __global const ulong* base,
+                              int components, __global const float* values, __global float* out)
+{
+    int x = get_global_id(0), y = get_global_id(1);
+    if (x >= width || y >= height) return;
+    size_t pixel = (size_t)y * width + x;
+    uint item = objects[pixel];
+    ulong at = item == CLVIS_BACKGROUND_ID ? ~(ulong)0 : base[item];
+    if (at == ~(ulong)0) {
+        for (int j = 0; j < components; ++j) out[(size_t)components * pixel + j] = NAN;
+        return;
+    }
+    float2 uv = vload2(pixel, bary);
+    clvis_real u = uv.x, v = uv.y, w = (clvis_real)1 - u - v;
     uint tri = clvis_key_id(keys[pixel]) - first[item];
     __global const float* c = values + at + (size_t)3 * components * tri;
     for (int j = 0; j < components; ++j)

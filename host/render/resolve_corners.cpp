@@ -240,25 +240,35 @@ void resolve_corners(Renderer::Impl& r, const VisibilityBuffer& vis, const Camer
     items.setArg(6, objects);
     r.queue.enqueueNDRangeKernel(items, cl::NullRange, global, local);
     if (!asked.empty()) {
+        // The exact barycentrics once, then each attribute interpolated with them.
         std::vector<float> pairs = camera_pairs(camera, vis.width(), vis.height());
         cl::Buffer cam = upload(r, pairs.data(), pairs.size() * sizeof(float), "the camera");
+        r.dev().check_allocation(pixels * 2 * sizeof(float), "the exact barycentrics");
+        cl::Buffer bary(r.dev().context, CL_MEM_READ_WRITE, pixels * 2 * sizeof(float));
+        cl::Kernel exact(r.dev().program("resolve_corners"), "resolve_exact_barycentrics");
+        int a = 0;
+        exact.setArg(a++, scene->keys);
+        exact.setArg(a++, cam);
+        exact.setArg(a++, cl_int(camera.projection == Projection::Orthographic));
+        exact.setArg(a++, cl_int(vis.width()));
+        exact.setArg(a++, cl_int(vis.height()));
+        exact.setArg(a++, scene->scene.positions);
+        exact.setArg(a++, scene->scene.indices);
+        exact.setArg(a++, cl_uint(scene->scene.triangle_count));
+        exact.setArg(a++, bary);
+        r.queue.enqueueNDRangeKernel(exact, cl::NullRange, global, local);
         for (AttributeAccess::Named& n : named) {
             auto it = cache.named.find(n.name);
             if (it == cache.named.end()) it = cache.named.emplace(n.name, upload_values(r, n.name, n.components)).first;
             cl::Buffer out = output(r, n.buffer, bool(n.buffer), pixels * std::size_t(n.components) * sizeof(float),
                                     "the " + n.name + " attribute");
             cl::Kernel k(r.dev().program("resolve_corners"), "resolve_corners");
-            int a = 0;
+            a = 0;
             k.setArg(a++, keys);
-            k.setArg(a++, scene->keys);
             k.setArg(a++, objects);
-            k.setArg(a++, cam);
-            k.setArg(a++, cl_int(camera.projection == Projection::Orthographic));
+            k.setArg(a++, bary);
             k.setArg(a++, cl_int(vis.width()));
             k.setArg(a++, cl_int(vis.height()));
-            k.setArg(a++, scene->scene.positions);
-            k.setArg(a++, scene->scene.indices);
-            k.setArg(a++, cl_uint(scene->scene.triangle_count));
             k.setArg(a++, cache.first);
             k.setArg(a++, it->second.base);
             k.setArg(a++, cl_int(n.components));
