@@ -200,7 +200,8 @@ void resolve_corners(Renderer::Impl& r, const VisibilityBuffer& vis, const Camer
             while (k < infos.size() && infos[k].name != name) ++k;
             if (k == infos.size())
                 throw Error(Error::Kind::InvalidArgument,
-                            "resolve: the scene has no attribute '" + name + "' (" + listed(infos) + ")");
+                            "resolve: attribute '" + name + "': the scene has no such vertex attribute (" +
+                                listed(infos) + ")");
             asked.push_back(infos[k]);
         }
     }
