@@ -1,7 +1,7 @@
 /* Resolves a visibility buffer into per-pixel attributes: barycentrics, world position, the
    geometric normal and the smooth (vertex-interpolated) normal, each written only when asked
-   (`what`, bits of shared/resolve.h), normals in world or camera axes. Reads the keys and the resident scene; knows nothing of
-   which path wrote the keys. Launched by host/render/resolve.cpp. */
+   (`what`, bits of shared/resolve.h), normals in world or camera axes. Reads the keys and the
+   resident scene; knows nothing of which path wrote the keys. Launched by host/render/resolve.cpp. */
 #include "shared/camera.h"
 #include "shared/resolve.h"
 #include "shared/visibility.h"

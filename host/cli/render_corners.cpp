@@ -21,7 +21,8 @@ void CornerOutputs::add_to(CLI::App& cmd)
     cmd.add_option("--objects", objects,
                    "write the object id of each pixel: the index of the item (mesh or instance) its triangle belongs "
                    "to (.tif, .tiff, .exr; uint32 channel 'object', background 0xFFFFFFFF)");
-    cmd.add_option("--normals-space", normals_space, "the axes of --normals: world (default) or camera (x = r, y = u, z = -f)")
+    cmd.add_option("--normals-space", normals_space,
+                   "the axes of --normals: world (default) or camera (x = r, y = u, z = -f)")
         ->check(CLI::IsMember({"world", "camera"}));
 }
 
@@ -67,7 +68,8 @@ void CornerOutputs::write(const AttributeBuffers& resolved, int width, int heigh
             resolved.read(a.name, one);
             for (int c = 0; c < a.components; ++c) {
                 channels.push_back(a.name + "." + "xyzw"[c]);
-                for (std::size_t i = 0; i < pixels; ++i) all[i * total + at + std::size_t(c)] = one[i * a.components + c];
+                for (std::size_t i = 0; i < pixels; ++i)
+                    all[i * total + at + std::size_t(c)] = one[i * std::size_t(a.components) + std::size_t(c)];
             }
             at += std::size_t(a.components);
         }

@@ -14,7 +14,8 @@ CornerReferee::CornerReferee(const Scene& scene, const Camera& camera, int width
     : camera_(camera), width_(width), height_(height), scene_(scene)
 {
     camera.validate();
-    if (width <= 0 || height <= 0) throw Error(Error::Kind::InvalidArgument, "CornerReferee: image size must be positive");
+    if (width <= 0 || height <= 0)
+        throw Error(Error::Kind::InvalidArgument, "CornerReferee: image size must be positive");
 }
 
 bool CornerReferee::expected(double sx, double sy, std::uint32_t id, const std::string& name, double* out,
@@ -55,7 +56,8 @@ CornerReport CornerReferee::check(const HostVisibility& vis, const std::string& 
     for (std::size_t item = 0; item < scene_.meshes().size() && c == 0; ++item)
         for (const CornerAttribute& a : scene_.data_of(item).attributes)
             if (a.name == name) c = a.components;
-    if (c == 0) throw Error(Error::Kind::InvalidArgument, "CornerReferee::check: the scene has no attribute '" + name + "'");
+    if (c == 0)
+        throw Error(Error::Kind::InvalidArgument, "CornerReferee::check: the scene has no attribute '" + name + "'");
     if (vis.samples != 1 || vis.width != width_ || vis.height != height_ || values.size() != vis.ids.size() * std::size_t(c))
         throw Error(Error::Kind::InvalidArgument, "CornerReferee::check: sizes differ from the referee's");
     CornerReport rep;
@@ -67,7 +69,8 @@ CornerReport CornerReferee::check(const HostVisibility& vis, const std::string& 
             ++rep.pixels;
             bool ok = true;
             double worst = 0;
-            if (expected(x + 0.5, y + 0.5, vis.ids[i], name, want, allowed)) {
+            const bool has = expected(x + 0.5, y + 0.5, vis.ids[i], name, want, allowed);
+            if (has) {
                 ++rep.covered;
                 for (int j = 0; j < c; ++j) {
                     if (std::isnan(want[j])) { // a corner without a value (a loader's NaN): NaN
@@ -86,9 +89,9 @@ CornerReport CornerReferee::check(const HostVisibility& vis, const std::string& 
                 ++rep.errors;
                 if (rep.first_errors.size() < 10) {
                     char buf[200];
-                    std::snprintf(buf, sizeof buf, "pixel (%d, %d) id %u: %s.x = %.9g, expected %s (error %.3g of the tolerance)",
-                                  x, y, vis.ids[i], name.c_str(), double(got[0]),
-                                  vis.ids[i] == background_id ? "NaN" : std::to_string(want[0]).c_str(), worst);
+                    std::snprintf(buf, sizeof buf, "pixel (%d, %d) id %u: %s.x = %.9g, expected %.9g (error %.3g of "
+                                  "the tolerance)", x, y, vis.ids[i], name.c_str(), double(got[0]),
+                                  has ? want[0] : std::nan(""), worst);
                     rep.first_errors.push_back(buf);
                 }
             }
