@@ -51,7 +51,8 @@ void bind_mesh(nb::module_& m)
                     if (old.name == name) return void(old = std::move(a));
                 d.attributes.push_back(std::move(a));
             },
-            nb::arg("name"), nb::arg("values"),
+            nb::sig("def set_attribute(self, name: str, values: numpy.typing.ArrayLike) -> None"), nb::arg("name"),
+            nb::arg("values"),
             "Sets the face-varying attribute `name` ('uv', 'color', any name): a (3T, C) float32 array, one\n"
             "row of C (1 to 4) components per corner of every triangle in index order; checked when the mesh\n"
             "is added to a Scene. Renderer.resolve(v, [name]) interpolates it per pixel.")
