@@ -1,7 +1,7 @@
 /* Resolves a visibility buffer into per-pixel attributes: barycentrics, world position, the
    geometric normal and the smooth (vertex-interpolated) normal, each written only when asked
-   (`what`, bits of shared/resolve.h). Reads the keys and the resident scene; knows nothing of
-   which path wrote the keys. Launched by host/render/resolve.cpp. */
+   (`what`, bits of shared/resolve.h), normals in world or camera axes. Reads the keys and the
+   resident scene; knows nothing of which path wrote the keys. Launched by host/render/resolve.cpp. */
 #include "shared/camera.h"
 #include "shared/resolve.h"
 #include "shared/visibility.h"
@@ -28,6 +28,18 @@ static void store_unit(__global float* out, size_t pixel, clvis_real x, clvis_re
     clvis_real len = sqrt(x * x + y * y + z * z);
     if (len > (clvis_real)0) store3(out, pixel, (float)(x / len), (float)(y / len), (float)(z / len));
     else store3(out, pixel, NAN, NAN, NAN);
+}
+
+/* x / |x| in camera axes (r, u, -f) when `camera` (CLVIS_RESOLVE_CAMERA_SPACE), else as given. */
+static void store_normal(__global float* out, size_t pixel, clvis_camera_gpu cam, int camera, clvis_real x,
+                         clvis_real y, clvis_real z)
+{
+    if (!camera) {
+        store_unit(out, pixel, x, y, z);
+        return;
+    }
+    store_unit(out, pixel, x * cam.r_x + y * cam.r_y + z * cam.r_z, x * cam.u_x + y * cam.u_y + z * cam.u_z,
+               -(x * cam.f_x + y * cam.f_y + z * cam.f_z));
 }
 
 __kernel void resolve(__global const ulong* keys, clvis_camera_gpu cam, __global const float* positions,
@@ -62,12 +74,13 @@ __kernel void resolve(__global const ulong* keys, clvis_camera_gpu cam, __global
     clvis_real e1x = (clvis_real)b.x - a.x, e1y = (clvis_real)b.y - a.y, e1z = (clvis_real)b.z - a.z;
     clvis_real e2x = (clvis_real)c.x - a.x, e2y = (clvis_real)c.y - a.y, e2z = (clvis_real)c.z - a.z;
     clvis_real gx = e1y * e2z - e1z * e2y, gy = e1z * e2x - e1x * e2z, gz = e1x * e2y - e1y * e2x;
-    if (what & CLVIS_RESOLVE_NORMAL) store_unit(normal, pixel, gx, gy, gz);
+    int camera = (what & CLVIS_RESOLVE_CAMERA_SPACE) != 0;
+    if (what & CLVIS_RESOLVE_NORMAL) store_normal(normal, pixel, cam, camera, gx, gy, gz);
     if (what & CLVIS_RESOLVE_SMOOTH_NORMAL) {
         clvis_vec3 n = {0.0f, 0.0f, 0.0f};
         if (has_normals) n = clvis_barycentric_point(vertex(normals, i0), vertex(normals, i1), vertex(normals, i2), u, v);
         /* Zero where the mesh has no normals (host/render/renderer.cpp): the geometric one then. */
-        if (n.x == 0.0f && n.y == 0.0f && n.z == 0.0f) store_unit(smooth, pixel, gx, gy, gz);
-        else store_unit(smooth, pixel, n.x, n.y, n.z);
+        if (n.x == 0.0f && n.y == 0.0f && n.z == 0.0f) store_normal(smooth, pixel, cam, camera, gx, gy, gz);
+        else store_normal(smooth, pixel, cam, camera, n.x, n.y, n.z);
     }
 }

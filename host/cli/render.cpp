@@ -5,6 +5,7 @@
 #include "output_plan.hpp"
 #include "render_ao.hpp"
 #include "render_flow.hpp"
+#include "render_corners.hpp"
 #include "render_report.hpp"
 #include "render_spread.hpp"
 
@@ -43,6 +44,7 @@ struct RenderArgs {
     bool timings = false; ///< --timings: what the first frame costs, phase by phase
     int width = 0, height = 0; ///< the image size, once resolved
     SpreadArgs spread; ///< --devices, --distribute: several devices or MPI ranks
+    CornerOutputs corners; ///< --attributes, --objects, --normals-space
 };
 
 #if !CLVIS_WITH_IMAGE_IO
@@ -58,7 +60,8 @@ std::vector<std::tuple<std::string, std::string, OutputKind>> output_flags(const
     return {{"--ids", a.ids, OutputKind::Ids},           {"--depth", a.depth, OutputKind::Depth},
             {"--image", a.image, OutputKind::Image},     {"--bary", a.bary, OutputKind::Floats},
             {"--normals", a.normals, OutputKind::Floats}, {"--position", a.position, OutputKind::Floats},
-            {"--visible", a.visible, OutputKind::Text}};
+            {"--visible", a.visible, OutputKind::Text},  {"--attributes", a.corners.attributes, OutputKind::Floats},
+            {"--objects", a.corners.objects, OutputKind::Ids}};
 }
 
 /// The file a flag's name gives for one path (suffixed when several paths write) and one view.
@@ -89,6 +92,7 @@ void write_attributes(Renderer& renderer, const VisibilityBuffer& vis, const Cam
     request.barycentrics = !a.bary.empty();
     request.smooth_normal = !a.normals.empty();
     request.position = !a.position.empty();
+    a.corners.request(request);
     if (!request.any()) return;
 #if CLVIS_WITH_IMAGE_IO
     AttributeBuffers attrs = resolve(renderer, vis, camera, request);
@@ -105,8 +109,10 @@ void write_attributes(Renderer& renderer, const VisibilityBuffer& vis, const Cam
         attrs.read(o.attribute, pixels);
         write_float_channels(file_name(o.file), vis.width(), vis.height(), o.channels, pixels);
     }
+    a.corners.write(attrs, vis.width(), vis.height(), file_name);
 #else
     (void)renderer, (void)vis, (void)camera, (void)file_name;
+    a.corners.write(AttributeBuffers(), 0, 0, file_name);
     no_image_io(!a.bary.empty() ? "--bary" : !a.normals.empty() ? "--normals" : "--position");
 #endif
 }
@@ -240,6 +246,7 @@ std::vector<Path> check_flags(const RenderArgs& a)
             if (!file.empty() && kind == OutputKind::Floats)
                 refuse(flag + ": attributes are resolved at one sample per pixel; --samples " +
                        std::to_string(a.options.samples) + " is for --ids, --depth, --image and --visible");
+    a.corners.check(a.options.samples, a.spread.any());
     if (a.path == "all" && !a.views.empty()) refuse("--views: renders one path (--path raster, ray or brute), not all");
     if (a.spread.any() && !a.flow.empty()) refuse("--flow: for one device in one process");
     if (a.spread.any()) {
@@ -282,6 +289,7 @@ void render_command(RenderArgs a)
         throw Error(Error::Kind::InvalidArgument, a.views + ": views that move items render on one device in one process");
     a.items = vf.items;
     a.moving = &file.scene;
+    a.corners.loaded(file.scene);
     if (a.spread.any()) {
         SpreadRequest request = spread_request(a);
         request.file = &file;
@@ -399,6 +407,7 @@ void add_render_command(CLI::App& app)
     cmd->add_option("--normals", args->normals,
                     "write unit normals x, y, z (.exr; smooth where the mesh has normals; background NaN)");
     cmd->add_option("--position", args->position, "write world positions x, y, z (.exr; background NaN)");
+    args->corners.add_to(*cmd);
     cmd->add_option("--views", args->views,
                     "render every camera of a views file in one batch: clvis's JSON, NeRF's transforms.json, a COLMAP "
                     "text model's folder, or a glTF file's camera nodes (--width, --height where the file gives no "

@@ -159,6 +159,14 @@ void write_depth(const std::string& path, const HostVisibility& vis)
                    vis.depth.data());
 }
 
+void write_object_ids(const std::string& path, int width, int height, const std::vector<std::uint32_t>& objects)
+{
+    if (!has_extension(path, id_extensions())) io_error(path, "object ids are written as " + listed(id_extensions()));
+    if (objects.size() != std::size_t(width) * std::size_t(height))
+        io_error(path, "the object array does not match the image size");
+    write_channels(path, width, height, {"object"}, OIIO::TypeDesc::UINT32, objects.data());
+}
+
 void write_float_channels(const std::string& path, int width, int height, const std::vector<std::string>& channels,
                           const std::vector<float>& pixels)
 {

@@ -15,6 +15,10 @@
 
 namespace clvis {
 
+namespace detail {
+struct CornerCache; // render/attribute_access.hpp
+}
+
 struct Renderer::Impl {
     Device device;
     RenderOptions options;
@@ -31,6 +35,7 @@ struct Renderer::Impl {
     FrameTiming last;
     BvhStats no_bvh;
     detail::StageRecorder stages;
+    std::shared_ptr<detail::CornerCache> corners; ///< named attributes on the device, made when resolved
 
     Device::Impl& dev() { return detail::DeviceAccess::of(device, "Renderer"); }
 

@@ -1,7 +1,6 @@
 // Resolving a visibility buffer into attributes (kernels/resolve.cl) on the renderer's queue, and
 // reading them back into the caller's storage.
-#include "render/renderer_impl.hpp"
-#include "render/sample_scene.hpp"
+#include "render/attribute_access.hpp"
 
 #include "shared/resolve.h"
 
@@ -10,20 +9,6 @@
 namespace clvis {
 
 using namespace detail;
-
-struct AttributeAccess {
-    static const Device& device(const AttributeBuffers& a) { return a.device_; }
-    static std::shared_ptr<_cl_mem>& buffer(AttributeBuffers& a, Attribute which)
-    {
-        return a.buffers_[std::size_t(which)];
-    }
-    static void set(AttributeBuffers& a, const Device& device, int width, int height)
-    {
-        a.device_ = device;
-        a.width_ = width;
-        a.height_ = height;
-    }
-};
 
 namespace {
 
@@ -92,7 +77,8 @@ void resolve(Renderer& renderer, const VisibilityBuffer& vis, const Camera& came
     if (vis.samples() != 1)
         throw Error(Error::Kind::InvalidArgument,
                     "resolve: attributes are resolved at one sample per pixel, the buffer holds " +
-                        std::to_string(vis.samples()) + " (render with samples = 1 for barycentrics, normals, positions)");
+                        std::to_string(vis.samples()) +
+                        " (render with samples = 1 for barycentrics, normals, positions, named attributes and objects)");
     Renderer::Impl& r = RendererAccess::of(renderer, "resolve");
     if (vis.device().context() != r.device.context())
         throw Error(Error::Kind::InvalidArgument, "resolve: the buffer belongs to another OpenCL context");
@@ -104,10 +90,14 @@ void resolve(Renderer& renderer, const VisibilityBuffer& vis, const Camera& came
         cl::Buffer dummy(r.dev().context, CL_MEM_READ_WRITE, 16);
         cl::Kernel kernel(r.dev().program("resolve"), "resolve");
         clvis_camera_gpu g = make_gpu_camera(camera, vis.width(), vis.height());
-        SampleScene scene = sample_scene(r, vis, true); // a scene with instances: the keys' triangles
-        kernel.setArg(0, scene.keys);
+        const bool builtin = request.barycentrics || request.position || request.normal || request.smooth_normal;
+        SampleScene scene; // a scene with instances: the keys' triangles
+        if (builtin || !request.named.empty()) scene = sample_scene(r, vis, true);
         kernel.setArg(1, sizeof g, &g);
-        scene.scene.set_args(kernel, 2);
+        if (builtin) {
+            kernel.setArg(0, scene.keys);
+            scene.scene.set_args(kernel, 2);
+        }
         int what = 0;
         for (int k = 0; k < attribute_count; ++k) {
             Attribute a = all_attributes[k];
@@ -127,12 +117,16 @@ void resolve(Renderer& renderer, const VisibilityBuffer& vis, const Camera& came
             kernel.setArg(8 + k, cl::Buffer(held.get(), true));
             what |= resolve_bits[k];
         }
-        kernel.setArg(7, cl_int(what));
-        if (what == 0) return;
-        r.queue.enqueueNDRangeKernel(kernel, cl::NullRange,
-                                     cl::NDRange(round_up(vis.width(), 8), round_up(vis.height(), 8)),
-                                     cl::NDRange(8, 8));
-        r.queue.finish();
+        if (what != 0) {
+            if (request.normal_space == NormalSpace::Camera) what |= CLVIS_RESOLVE_CAMERA_SPACE;
+            kernel.setArg(7, cl_int(what));
+            r.queue.enqueueNDRangeKernel(kernel, cl::NullRange,
+                                         cl::NDRange(round_up(vis.width(), 8), round_up(vis.height(), 8)),
+                                         cl::NDRange(8, 8));
+            r.queue.finish();
+        }
+        resolve_corners(r, vis, camera, request, target, same_size,
+                        builtin || !request.named.empty() ? &scene : nullptr);
     } catch (const cl::Error& e) {
         throw_cl_error(e, "resolving attributes of a visibility buffer");
     }

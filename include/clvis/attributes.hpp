@@ -11,7 +11,9 @@
 
 
 #include <array>
+#include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace clvis {
@@ -33,15 +35,44 @@ const char* to_string(Attribute a) noexcept;
 /// Throws Error(InvalidArgument) for any other name.
 Attribute attribute_from_string(const std::string& name);
 
+/// The axes normals are given in (CONVENTIONS.md "Object ids"): world, or the camera's
+/// (x = r, y = u, z = -f of "Camera frame").
+enum class NormalSpace { World, Camera };
+/// "world" or "camera".
+const char* to_string(NormalSpace s) noexcept;
+/// Throws Error(InvalidArgument) for any other name.
+NormalSpace normal_space_from_string(const std::string& name);
+
+/// A named face-varying attribute of a scene (MeshData::attributes) and its components.
+struct AttributeInfo {
+    std::string name;
+    int components = 1;
+};
+/// Every named attribute the scene's items carry (a prototype's for its instances), in the order
+/// first met item by item. Error(InvalidArgument) naming both meshes when two give one name
+/// different component counts.
+std::vector<AttributeInfo> scene_attributes(const Scene& scene);
+
 /// Which attributes to resolve.
 struct AttributeRequest {
     bool barycentrics = false;
     bool position = false;
     bool normal = false;
     bool smooth_normal = false;
+    /// normal and smooth_normal in world or camera axes
+    NormalSpace normal_space = NormalSpace::World;
+    /// Named corner attributes ("uv", "color", any name of scene_attributes()): interpolated with
+    /// the sample's barycentrics, NaN on the background and on items without them. A name no
+    /// item carries is Error(InvalidArgument) listing those the scene has.
+    std::vector<std::string> named;
+    /// The object id (CONVENTIONS.md "Object ids"): the item index of each sample's triangle.
+    bool object = false;
 
     bool has(Attribute a) const noexcept;
-    bool any() const noexcept { return barycentrics || position || normal || smooth_normal; }
+    bool any() const noexcept
+    {
+        return barycentrics || position || normal || smooth_normal || !named.empty() || object;
+    }
 };
 
 /// The resolved attributes of one visibility buffer, on the device: channels(a) floats per
@@ -59,10 +90,32 @@ public:
     void read(Attribute a, std::vector<float>& out) const;
     std::vector<float> read(Attribute a) const;
 
+    /// Named attributes: whether `name` was resolved, its components (Error when not resolved),
+    /// its device buffer (components floats per pixel, adjacent) and blocking reads.
+    bool has(const std::string& name) const;
+    int components(const std::string& name) const;
+    cl_mem buffer(const std::string& name) const;
+    void read(const std::string& name, std::vector<float>& out) const;
+    /// The names resolved, in the order asked.
+    std::vector<std::string> names() const;
+
+    /// Object ids: one uint32 per pixel, background 0xFFFFFFFF.
+    bool has_objects() const { return bool(objects_); }
+    cl_mem objects_buffer() const;
+    void read_objects(std::vector<std::uint32_t>& out) const;
+
 private:
     friend struct AttributeAccess;
+    struct Named {
+        std::string name;
+        int components = 1;
+        std::shared_ptr<struct _cl_mem> buffer;
+    };
+    const Named& named(const std::string& name) const;
     Device device_;
     std::array<std::shared_ptr<struct _cl_mem>, attribute_count> buffers_;
+    std::vector<Named> named_;
+    std::shared_ptr<struct _cl_mem> objects_;
     int width_ = 0, height_ = 0;
 };
 

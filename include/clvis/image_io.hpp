@@ -27,6 +27,9 @@ void read_depth(const std::string& path, HostVisibility& vis);
 /// positions and normals "x", "y", "z".
 void write_float_channels(const std::string& path, int width, int height, const std::vector<std::string>& channels,
                           const std::vector<float>& pixels);
+/// Writes object ids (CONVENTIONS.md "Object ids"): one uint32 channel "object" (.tif, .tiff or
+/// .exr, as id buffers), width x height values, row 0 on top.
+void write_object_ids(const std::string& path, int width, int height, const std::vector<std::uint32_t>& objects);
 /// Reads every channel of an image as float, adjacent per pixel, with its size and channel names.
 std::vector<float> read_float_channels(const std::string& path, int* width, int* height,
                                        std::vector<std::string>* channels = nullptr);

@@ -61,4 +61,41 @@ private:
     Scene scene_; ///< items and prototypes, never the expansion
 };
 
+/// Named corner attributes (CONVENTIONS.md "Vertex attributes"): a value is right within
+/// corner_tolerance_rel of the largest magnitude among the triangle's three corner values (plus
+/// corner_tolerance_abs) of the value computed in double from the sample's exact barycentrics (the
+/// double-precision primary ray meeting the plane of the triangle's float32 world vertices); NaN
+/// where the item lacks the attribute and on the background.
+constexpr double corner_tolerance_rel = 1e-5;
+constexpr double corner_tolerance_abs = 1e-6;
+
+struct CornerReport {
+    std::size_t pixels = 0, covered = 0, errors = 0;
+    double max_error_share = 0;            ///< |error| / allowed, largest over covered pixels
+    std::vector<std::string> first_errors; ///< up to 10
+};
+
+class CornerReferee {
+public:
+    /// Copies the scene; Error(InvalidArgument) for an invalid camera or size.
+    CornerReferee(const Scene& scene, const Camera& camera, int width, int height);
+    /// The exact value of attribute `name` (`components` doubles into `out`) at the sample at raster
+    /// (sx, sy) of triangle `id`, and into `allowed` the tolerance of each component; false (and
+    /// nothing written) where the answer must be NaN: the background, or an item without it.
+    bool expected(double sx, double sy, std::uint32_t id, const std::string& name, double* out,
+                  double* allowed) const;
+    /// Judges every pixel's value of `name` (its components adjacent, row 0 on top) against `vis`'s
+    /// ids. Error(InvalidArgument) for a name the scene lacks or sizes that differ.
+    CornerReport check(const HostVisibility& vis, const std::string& name, const std::vector<float>& values) const;
+    /// Judges object ids: each pixel's item (Scene::mesh_of of its id), background_id on the
+    /// background. Returns the number of wrong pixels; `first` gets up to 10 descriptions.
+    std::size_t check_objects(const HostVisibility& vis, const std::vector<std::uint32_t>& objects,
+                              std::vector<std::string>* first = nullptr) const;
+
+private:
+    Camera camera_;
+    int width_, height_;
+    Scene scene_;
+};
+
 } // namespace clvis

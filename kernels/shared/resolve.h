@@ -14,6 +14,8 @@
 #define CLVIS_RESOLVE_POSITION 2
 #define CLVIS_RESOLVE_NORMAL 4
 #define CLVIS_RESOLVE_SMOOTH_NORMAL 8
+/* Normals in camera axes (x = r, y = u, z = -f) instead of world axes. */
+#define CLVIS_RESOLVE_CAMERA_SPACE 16
 
 #ifdef CLVIS_HAVE_DOUBLE
 typedef double clvis_real;

@@ -7,44 +7,74 @@
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
+#include <cstdlib>
+
 namespace clvis::python {
 
 namespace {
 
-Attribute attribute_named(const std::string& name)
+bool builtin_name(const std::string& name)
 {
-    try {
-        return attribute_from_string(name);
-    } catch (const Error& e) {
-        throw Error(e.kind(), std::string("resolve: ") + e.what());
-    }
+    for (const std::string& n : option_names<Attribute>())
+        if (n == name) return true;
+    return false;
 }
 
-nb::dict resolve_attributes(PyRenderer& r, const PyVisibility& vis, const std::vector<std::string>& names)
+nb::dict resolve_attributes(PyRenderer& r, const PyVisibility& vis, const std::vector<std::string>& names,
+                            const std::string& normals_space)
 {
     const VisibilityBuffer& buffer = device_buffer(vis, "resolve");
     AttributeRequest request;
-    std::vector<Attribute> wanted;
+    try {
+        request.normal_space = normal_space_from_string(normals_space);
+    } catch (const Error& e) {
+        throw Error(e.kind(), std::string("resolve: normals_space: ") + e.what());
+    }
+    // The built-in attributes by name, 'object', and any other name as a named corner attribute
+    // (resolve() refuses one the scene lacks, listing those it has).
     for (const std::string& name : names) {
-        const Attribute a = attribute_named(name);
-        wanted.push_back(a);
-        request.barycentrics |= a == Attribute::Barycentrics;
-        request.position |= a == Attribute::Position;
-        request.normal |= a == Attribute::Normal;
-        request.smooth_normal |= a == Attribute::SmoothNormal;
+        if (name == "object") {
+            request.object = true;
+        } else if (builtin_name(name)) {
+            const Attribute a = attribute_from_string(name);
+            request.barycentrics |= a == Attribute::Barycentrics;
+            request.position |= a == Attribute::Position;
+            request.normal |= a == Attribute::Normal;
+            request.smooth_normal |= a == Attribute::SmoothNormal;
+        } else {
+            request.named.push_back(name);
+        }
     }
     if (!request.any()) throw Error(Error::Kind::InvalidArgument, "resolve: no attribute asked for");
-    std::vector<std::vector<float>> values(attribute_count);
+    std::vector<std::vector<float>> values(names.size());
+    std::vector<int> components(names.size(), 0);
+    std::vector<std::uint32_t> objects;
     unlocked(r.lock, [&] {
         const AttributeBuffers resolved = resolve(r.renderer, buffer, *vis.camera, request);
-        for (const Attribute a : wanted) resolved.read(a, values[std::size_t(a)]);
+        for (std::size_t k = 0; k < names.size(); ++k) {
+            if (names[k] == "object") {
+                if (objects.empty()) resolved.read_objects(objects);
+            } else if (builtin_name(names[k])) {
+                const Attribute a = attribute_from_string(names[k]);
+                resolved.read(a, values[k]);
+                components[k] = channels(a);
+            } else {
+                resolved.read(names[k], values[k]);
+                components[k] = -resolved.components(names[k]); // named: one component gives (H, W)
+            }
+        }
     });
     nb::dict out;
     const auto h = std::size_t(buffer.height()), w = std::size_t(buffer.width());
     for (std::size_t k = 0; k < names.size(); ++k) { // keyed by the names asked for ('smooth_normal')
-        const Attribute a = wanted[k];
-        auto& v = values[std::size_t(a)];
-        if (!v.empty()) out[names[k].c_str()] = owned_array(std::move(v), {h, w, std::size_t(channels(a))});
+        if (out.contains(names[k].c_str())) continue;
+        if (names[k] == "object") {
+            out["object"] = owned_array(std::move(objects), {h, w});
+        } else if (components[k] == -1) {
+            out[names[k].c_str()] = owned_array(std::move(values[k]), {h, w});
+        } else {
+            out[names[k].c_str()] = owned_array(std::move(values[k]), {h, w, std::size_t(std::abs(components[k]))});
+        }
     }
     return out;
 }
@@ -94,10 +124,15 @@ void bind_outputs(nb::class_<PyRenderer>& r)
 {
     r.def("resolve", &resolve_attributes, nb::arg("visibility"),
           nb::arg("attributes") = std::vector<std::string>{"barycentrics", "position", "normal"},
+          nb::arg("normals_space") = "world",
           "Attributes of the visible triangle per pixel of `visibility` (rendered by this Renderer), resolved\n"
           "on the device: a dict of (H, W, C) float32 arrays named by `attributes`: 'barycentrics' (u, v with\n"
           "P = (1-u-v) v0 + u v1 + v v2; background 0, 0), 'position' (world, background NaN), 'normal' (unit\n"
-          "geometric, cross(v1 - v0, v2 - v0)) and 'smooth_normal' (interpolated vertex normals).\n\n"
+          "geometric, cross(v1 - v0, v2 - v0)) and 'smooth_normal' (interpolated vertex normals), in world\n"
+          "axes or, with normals_space='camera', the camera's (x = r, y = u, z = -f); 'object' (uint32 (H, W):\n"
+          "the item index of each pixel's triangle, background 0xFFFFFFFF); and any named vertex attribute\n"
+          "of the scene ('uv' (H, W, 2), 'color' (H, W, 4), a one-component one (H, W)), interpolated with\n"
+          "the exact barycentrics, NaN on the background and where a mesh lacks it.\n\n"
           "Example:\n    vis = renderer.render(camera, 640, 360)\n"
           "    position = renderer.resolve(vis, ['position'])['position']  # (360, 640, 3)")
         .def("visible_ids", &visible_ids, nb::sig("def visible_ids(self, views: Visibility | typing.Sequence[Visibility]) -> numpy.typing.NDArray[numpy.uint32]"),

@@ -41,6 +41,21 @@ void bind_mesh(nb::module_& m)
                      "(V, 3) float32 per-vertex normals, or None.")
         .def_prop_ro("vertex_count", &MeshData::vertex_count)
         .def_prop_ro("triangle_count", &MeshData::triangle_count)
+        .def(
+            "set_attribute",
+            [](MeshData& d, const std::string& name, nb::handle values) {
+                // (3T, C): one row per corner, corners in index order (CONVENTIONS.md "Vertex attributes").
+                auto v = as_host_array<float>(values, {"Mesh.set_attribute: values", "(3T, C)", 2, 0, false}, "float32");
+                CornerAttribute a{name, int(v.shape(1)), std::vector<float>(v.data(), v.data() + v.size())};
+                for (CornerAttribute& old : d.attributes)
+                    if (old.name == name) return void(old = std::move(a));
+                d.attributes.push_back(std::move(a));
+            },
+            nb::sig("def set_attribute(self, name: str, values: numpy.typing.ArrayLike) -> None"), nb::arg("name"),
+            nb::arg("values"),
+            "Sets the face-varying attribute `name` ('uv', 'color', any name): a (3T, C) float32 array, one\n"
+            "row of C (1 to 4) components per corner of every triangle in index order; checked when the mesh\n"
+            "is added to a Scene. Renderer.resolve(v, [name]) interpolates it per pixel.")
         .def("__repr__", [](const MeshData& d) {
             return "<clvis.Mesh '" + d.name + "': " + std::to_string(d.vertex_count()) + " vertices, " +
                    std::to_string(d.triangle_count()) + " triangles>";
