@@ -131,10 +131,20 @@ Scene scene_part(const Scene& scene, Share share)
     return part;
 }
 
+/// MPI's modes gather and reduce one key per pixel: depth layers (RenderOptions::layers) are refused.
+static void check_one_layer(const Renderer* renderer)
+{
+    if (renderer && renderer->options().layers != 1)
+        throw Error(Error::Kind::InvalidArgument, "MPI distribution composes one depth layer, the Renderer's options ask "
+                                                  "for layers " +
+                                                      std::to_string(renderer->options().layers));
+}
+
 Share render_frames(MPI_Comm comm, Renderer& renderer, const std::vector<Camera>& cameras, int width, int height,
                     Path path, const std::function<void(int view, const VisibilityBuffer& keys)>& on_view,
                     Timing* timing)
 {
+    check_one_layer(&renderer);
     check_size(width, height);
     int rank = rank_in(comm), ranks = size_of(comm);
     Share mine = share_of(cameras.size(), rank, ranks);
@@ -152,6 +162,7 @@ Share render_frames(MPI_Comm comm, Renderer& renderer, const std::vector<Camera>
 std::vector<std::uint64_t> render_screen(MPI_Comm comm, Renderer& renderer, const Camera& camera, int width,
                                          int height, Path path, Timing* timing)
 {
+    check_one_layer(&renderer);
     check_size(width, height);
     int rank = rank_in(comm), ranks = size_of(comm);
     Region band = rows_of(width, height, rank, ranks);
@@ -182,6 +193,7 @@ std::vector<std::uint64_t> render_screen(MPI_Comm comm, Renderer& renderer, cons
 std::vector<std::uint64_t> render_scene(MPI_Comm comm, Renderer* renderer, std::uint32_t id_base,
                                         const Camera& camera, int width, int height, Path path, Timing* timing)
 {
+    check_one_layer(renderer);
     check_size(width, height);
     int rank = rank_in(comm), ranks = size_of(comm);
     auto t0 = Clock::now();

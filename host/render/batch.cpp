@@ -65,6 +65,10 @@ void render_views(Renderer& renderer, const std::vector<Camera>& cameras, Path p
         throw Error(Error::Kind::InvalidArgument,
                     "render_views: a batch holds one sample per pixel, the Renderer's options ask for " +
                         std::to_string(m.options.samples) + " (render those views one by one)");
+    if (m.options.layers != 1)
+        throw Error(Error::Kind::InvalidArgument,
+                    "render_views: a batch holds one depth layer, the Renderer's options ask for layers " +
+                        std::to_string(m.options.layers) + " (render those views one by one)");
     if (target.view(0).device().context() != m.device.context())
         throw Error(Error::Kind::InvalidArgument, "render_views: the batch belongs to another OpenCL context");
     renderer.prepare(path);

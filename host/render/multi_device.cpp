@@ -104,6 +104,9 @@ MultiDeviceRenderer::MultiDeviceRenderer(const std::vector<Device>& devices, con
     if (options.samples != 1)
         throw Error(Error::Kind::InvalidArgument, "MultiDeviceRenderer: draws one sample per pixel, the options ask for " +
                                                       std::to_string(options.samples));
+    if (options.layers != 1)
+        throw Error(Error::Kind::InvalidArgument, "MultiDeviceRenderer: draws one depth layer, the options ask for layers " +
+                                                      std::to_string(options.layers));
     for (std::size_t i = 0; i < devices.size(); ++i) {
         try {
             renderers_.emplace_back(devices[i], scene, options);
