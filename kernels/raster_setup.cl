@@ -52,14 +52,19 @@ static clvis_clip_vertex load_camera_vertex(clvis_camera_gpu cam, __global const
    layer was background (the key took an empty slot), held the key already, or the last layer is
    passed. Every layer's key only decreases and every key carried moves only to later layers, so
    however work-items interleave, each list ends sorted, holding the K smallest distinct keys
-   drawn (a key meets any copy of itself on its way). CLVIS_PEEK tests the last layer: a depth
-   word below the key's there stays below it, and K keys nearer by depth leave no room. */
+   drawn (a key meets any copy of itself on its way). CLVIS_PEEK tests the last layer first: a
+   depth word below the key's there stays below it, and K keys nearer by depth leave no room; then
+   each layer: where its depth word is below the key's, the atomic would keep that layer's key and
+   carry this one on, which the carry does without it. */
 static void draw_key_layers(volatile __global ulong* p, size_t plane, ulong key)
 {
 #ifdef CLVIS_PEEK
     if (((volatile __global const uint*)(p + (size_t)(CLVIS_LAYERS - 1) * plane))[1] < (uint)(key >> 32)) return;
 #endif
     for (int k = 0; k < CLVIS_LAYERS; ++k) {
+#ifdef CLVIS_PEEK
+        if (((volatile __global const uint*)(p + (size_t)k * plane))[1] < (uint)(key >> 32)) continue;
+#endif
         ulong old = atom_min(p + (size_t)k * plane, key);
         if (old == key || old == CLVIS_BACKGROUND_KEY) return;
         key = max(old, key);
