@@ -9,6 +9,7 @@
 #include "test_meshes.hpp"
 
 #include <clvis/clvis.hpp>
+#include <clvis/multi_device.hpp>
 #include <clvis/procedural.hpp>
 #include <clvis/referee.hpp>
 
@@ -275,11 +276,11 @@ TEST_CASE("depth layers: unsupported combinations are refused by name", "[device
     refused(o, "samples");
     o.samples = 1;
     Renderer r(device(), s, o);
-    VisibilityBatch batch(device(), 2, 8, 8);
+    VisibilityBatch batch(device(), 2, 8, 8); // one layer per view: not what the Renderer draws
     Camera c = test::look({0.4, 0.5, 3.0}, {0, 0, 0}, 45, 0.1, 10);
     try {
         render_views(r, {c, c}, Path::Raster, batch);
-        FAIL("a batch with layers was not refused");
+        FAIL("a batch of one layer was not refused");
     } catch (const Error& e) {
         CHECK(std::string(e.what()).find("layer") != std::string::npos);
     }
@@ -327,4 +328,41 @@ TEST_CASE("depth layers: the referee rejects swapped, repeated and missing layer
     CHECK(r[0].errors == 0);
     CHECK(r[1].errors == 1);
     CHECK(r[1].errors_b == 1);
+}
+
+TEST_CASE("depth layers: tiles on several devices hold every layer of one device's frame", "[device][layers]")
+{
+    Scene s = sphere_scene();
+    Camera c = test::look({0.4, 0.5, 3.0}, {0, 0, 0}, 45, 0.1, 10);
+    RenderOptions o = with_layers(3);
+    MultiDeviceRenderer many({device(), device()}, s, o);
+    for (Path path : {Path::Raster, Path::Ray}) {
+        std::vector<std::uint64_t> want = keys_of(s, c, 40, 30, o, path);
+        MultiDeviceOptions mo;
+        mo.tile = 7;
+        MultiDeviceFrame f = many.render(c, 40, 30, path, mo);
+        CHECK(f.layers == 3);
+        CHECK(f.keys == want);
+    }
+}
+
+TEST_CASE("depth layers: each view of a batch holds the layers of the view rendered alone", "[device][layers]")
+{
+    Scene s = sphere_scene();
+    std::vector<Camera> cams = {test::look({0.4, 0.5, 3.0}, {0, 0, 0}, 45, 0.1, 10),
+                                test::look({-1.5, 0.3, 2.0}, {0, 0.1, 0}, 40, 0.1, 10),
+                                test::look({0.1, 0.2, 0.3}, {0.5, 0.1, -1}, 70, 0.01, 10)};
+    for (Path path : {Path::Raster, Path::Ray, Path::Brute})
+        for (Coverage coverage : {Coverage::Watertight, Coverage::RasterRule}) {
+            RenderOptions o = with_layers(4, coverage);
+            Renderer r(device(), s, o);
+            VisibilityBatch batch(device(), 3, 33, 21, 4);
+            CHECK(batch.layers() == 4);
+            render_views(r, cams, path, batch);
+            for (int v = 0; v < 3; ++v) {
+                INFO(to_string(path) << " " << to_string(coverage) << " view " << v);
+                CHECK(batch.view(v).layers() == 4);
+                CHECK(batch.view(v).read_keys() == keys_of(s, cams[std::size_t(v)], 33, 21, o, path));
+            }
+        }
 }

@@ -237,8 +237,9 @@ std::vector<Path> check_flags(const RenderArgs& a)
     if (a.options.layers != 1) { // depth layers: the buffers of one camera on one device
         std::string k = "--layers " + std::to_string(a.options.layers);
         if (a.options.samples != 1) refuse(k + ": depth layers take one sample per pixel (--samples 1)");
-        if (!a.views.empty() || a.spread.any())
-            refuse(k + ": --views, --devices and --distribute draw one layer; render one camera on one device");
+        if (!a.views.empty() || (!a.spread.distribute.empty() && a.spread.distribute != "scene"))
+            refuse(k + ": --views and --distribute frames|screen draw one layer; render one camera (on one or more "
+                       "--devices, or --distribute scene)");
         if (a.ao > 0) refuse(k + ": --ao shades one layer; render the image without --layers");
         for (const auto& [flag, file, kind] : output_flags(a))
             if (!file.empty() && kind != OutputKind::Ids && kind != OutputKind::Depth && flag != "--image")

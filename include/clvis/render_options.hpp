@@ -184,8 +184,9 @@ struct RenderOptions {
     /// layers background; layer 0 is the one-layer buffer bit for bit. Every path gives the same
     /// layers (in Coverage::RasterRule the ray paths' equal the raster path's bit for bit). The
     /// buffer holds K layers of width x height x samples keys, layer-major (VisibilityBuffer).
-    /// Refused by name (Error(InvalidArgument)) with samples > 1, for batches of views, several
-    /// devices and MPI.
+    /// Refused by name (Error(InvalidArgument)) with samples > 1 and by MPI's frames and screen
+    /// modes; regions, instances, batches of views (VisibilityBatch with layers),
+    /// MultiDeviceRenderer and MPI's scene mode (sorted lists merged) keep every layer.
     int layers = 1;
 };
 
