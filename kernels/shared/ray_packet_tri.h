@@ -211,8 +211,11 @@ static void packet_test_triangle(const packet* p, const float* vert, uint tri_id
     int take[CLVIS_PACKET];
     vstore16(bits, 0, tb);
     vstore16(nearer, 0, take);
+    vstore16(*best_t, 0, kt);
+    vstore16(*best_id, 0, kid);
     for (int l = 0; l < CLVIS_PACKET; ++l) {
-        if (take[l]) clvis_layers_insert(lists + l, CLVIS_PACKET, ((ulong)tb[l] << 32) | (ulong)tri_id);
+        if (!take[l]) continue;
+        clvis_layers_insert(lists + l, CLVIS_PACKET, ((ulong)tb[l] << 32) | (ulong)tri_id);
         ulong last = lists[(CLVIS_LAYERS - 1) * CLVIS_PACKET + l];
         kt[l] = (uint)(last >> 32);
         kid[l] = (uint)last;
