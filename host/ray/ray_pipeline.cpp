@@ -136,6 +136,11 @@ struct RayPipeline::Impl {
         int entries = two_level ? levels.stack_entries() : 3 * wide.depth + 1;
         int stack = (entries / stack_step + 1) * stack_step;
         if (stack == trace_stack) return;
+        if (options.layers > 1 && !single && device.loop_limit() != Device::Impl::loop_unlimited)
+            throw Error(Error::Kind::InvalidArgument,
+                        "layers " + std::to_string(options.layers) + " with ray mapping 'packet' on " + device.info.name +
+                            ", which caps a work-item's loops: its 16 lanes' layers could pass the cap; use ray "
+                            "mapping 'single' or 'auto'");
         std::string define = join_defines(coverage_define(options.coverage), layers_define(options.layers));
         std::string name = single ? "ray_trace_single" : "ray_trace";
         if (!single && device.cpu_hints()) define += " -DCLVIS_PREFETCH=1";
