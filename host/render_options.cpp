@@ -164,4 +164,10 @@ int samples_log2(int samples)
                 "samples per pixel must be " + listed + ", got " + std::to_string(samples));
 }
 
+void check_layers(int layers)
+{
+    if (layers < 1 || layers > 8)
+        throw Error(Error::Kind::InvalidArgument, "layers must lie in [1, 8], got " + std::to_string(layers));
+}
+
 } // namespace clvis

@@ -8,15 +8,80 @@
    raster_setup.cl drew with atomics, or an earlier chunk), or as they are, background included
    (tile ownership's first launch: every key of the buffer written once, by its owner, with no
    clear and no atomics). */
+#include "shared/layers.h"
 #include "shared/raster.h"
 
 #define CLVIS_FINE_AHEAD 4 /* bin entries: how far ahead a triangle is prefetched (CLVIS_PREFETCH) */
+
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+/* Depth layers (shared/layers.h): raster_fine's square and walk, each covered sample's key
+   inserted into the sample's sorted list of CLVIS_LAYERS keys in the buffer itself. The
+   work-item owns its square's keys for the launch (setup's atomics finished before it), so the
+   insert needs no atomics, under tile ownership or not; without `merge` it first writes the
+   background into every layer of the square. No occlusion bound: the K-th key rises slowly. */
+static inline CLVIS_ALWAYS_INLINE void
+raster_fine_layers(__global const clvis_raster_tri* tris, __global const uint* entries, __global const uint* offsets,
+                   int tile_log2, int tiles_x, clvis_camera_gpu cam, __global ulong* keys, clvis_region region,
+                   uint first, uint chunk, int merge, uint capacity)
+{
+    int sub = min(1 << tile_log2, CLVIS_FINE_SUB);
+    int px0 = (int)get_global_id(0) * sub, py0 = (int)get_global_id(1) * sub;
+    if (px0 >= region.width || py0 >= region.height) return;
+    int px1 = min(px0 + sub, region.width) - 1, py1 = min(py0 + sub, region.height) - 1;
+    uint tile = (uint)(py0 >> tile_log2) * (uint)tiles_x + (uint)(px0 >> tile_log2);
+    uint begin = offsets[tile], end = offsets[tile + 1];
+    if (end > capacity) return; /* the bins overflowed: the host redraws the frame */
+    begin = first < end - begin ? begin + first : end;
+    end = chunk < end - begin ? begin + chunk : end;
+    int n_log2 = cam.sample_log2;
+    size_t plane = ((size_t)region.width * (size_t)region.height) << n_log2; /* keys per layer */
+    if (!merge)
+        for (int j = py0; j <= py1; ++j)
+            for (int i = px0; i <= px1; ++i) {
+                __global ulong* list = keys + (((size_t)j * (size_t)region.width + (size_t)i) << n_log2) + (size_t)cam.sample;
+                for (int k = 0; k < CLVIS_LAYERS; ++k) list[(size_t)k * plane] = CLVIS_BACKGROUND_KEY;
+            }
+    for (uint e = begin; e < end; ++e) {
+        __global const clvis_raster_tri* t = &tris[entries[e]];
+        int ya = max(t->y0, py0), yb = min(t->y1, py1);
+        int xa = max(t->x0, px0), xb = min(t->x1, px1);
+        if (ya > yb || xa > xb) continue;
+        long ex0 = t->ex[0], ex1 = t->ex[1], ex2 = t->ex[2];
+        long ey0 = t->ey[0], ey1 = t->ey[1], ey2 = t->ey[2];
+        float wc = t->wc, w0 = t->w[0], w1 = t->w[1], w2 = t->w[2];
+        uint id = t->id;
+        int s0 = (xa - px0) >> 3, s1 = (xb - px0) >> 3;
+        int i0 = px0 + 8 * s0;
+        long r0 = t->e0[0] + (long)i0 * ex0 + (long)ya * ey0;
+        long r1 = t->e0[1] + (long)i0 * ex1 + (long)ya * ey1;
+        long r2 = t->e0[2] + (long)i0 * ex2 + (long)ya * ey2;
+        for (int j = ya; j <= yb; ++j, r0 += ey0, r1 += ey1, r2 += ey2) {
+            long q0 = r0, q1 = r1, q2 = r2;
+            for (int s = s0; s <= s1; ++s, q0 += 8 * ex0, q1 += 8 * ex1, q2 += 8 * ex2) {
+                int x = px0 + 8 * s, count = min(8, px1 - x + 1);
+                ulong8 key = clvis_raster_span8(q0, q1, q2, ex0, ex1, ex2, wc, w0, w1, w2, id, count, cam.ortho,
+                                                cam.near_d, cam.far_d);
+                if (all(key == (ulong8)(CLVIS_BACKGROUND_KEY))) continue;
+                ulong lane[8];
+                vstore8(key, 0, lane);
+                __global ulong* row = keys + (((size_t)j * (size_t)region.width + (size_t)x) << n_log2) + (size_t)cam.sample;
+                for (int l = 0; l < count; ++l)
+                    if (lane[l] != CLVIS_BACKGROUND_KEY) clvis_layers_insert_global(row + ((size_t)l << n_log2), plane, lane[l]);
+            }
+        }
+    }
+}
+#endif
 
 __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const uint* entries,
                           __global const uint* offsets, int tile_log2, int tiles_x, clvis_camera_gpu cam,
                           __global ulong* keys, clvis_region region, uint first, uint chunk, int merge,
                           uint capacity)
 {
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+    raster_fine_layers(tris, entries, offsets, tile_log2, tiles_x, cam, keys, region, first, chunk, merge, capacity);
+    return;
+#endif
     int sub = min(1 << tile_log2, CLVIS_FINE_SUB);
     int px0 = (int)get_global_id(0) * sub, py0 = (int)get_global_id(1) * sub;
     if (px0 >= region.width || py0 >= region.height) return; /* region pixels, shared/region.h */
@@ -152,6 +217,10 @@ __kernel void raster_fine_pixel(__global const clvis_raster_tri* tris, __global 
     begin = first < end - begin ? begin + first : end;
     end = chunk < end - begin ? begin + chunk : end;
 
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+    ulong list[CLVIS_LAYERS]; /* the pixel's layers (shared/layers.h), merged into the buffer at the end */
+    for (int k = 0; k < CLVIS_LAYERS; ++k) list[k] = CLVIS_BACKGROUND_KEY;
+#endif
     ulong best = CLVIS_BACKGROUND_KEY;
     for (uint base = begin; base < end; base += (uint)items) {
         uint count = min((uint)items, end - base);
@@ -161,9 +230,29 @@ __kernel void raster_fine_pixel(__global const clvis_raster_tri* tris, __global 
         for (uint b = 0; b < count; ++b) {
             if (!inside || j < batch[b].y0 || j > batch[b].y1 || i < batch[b].x0 || i > batch[b].x1) continue;
             clvis_raster_tri t = batch[b];
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+            clvis_layers_insert(list, 1, clvis_raster_sample(&t, i, j, cam.ortho, cam.near_d, cam.far_d));
+#else
             best = min(best, clvis_raster_sample(&t, i, j, cam.ortho, cam.near_d, cam.far_d));
+#endif
         }
     }
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+    if (!inside) return;
+    {
+        size_t plane = ((size_t)region.width * (size_t)region.height) << cam.sample_log2;
+        __global ulong* out = keys + (((size_t)j * (size_t)region.width + (size_t)i) << cam.sample_log2) + (size_t)cam.sample;
+        for (int k = 0; k < CLVIS_LAYERS; ++k) {
+            if (merge) {
+                if (list[k] == CLVIS_BACKGROUND_KEY) break;
+                clvis_layers_insert_global(out, plane, list[k]);
+            } else {
+                out[(size_t)k * plane] = list[k];
+            }
+        }
+    }
+    return;
+#endif
     if (!inside || (merge && best == CLVIS_BACKGROUND_KEY)) return;
     /* the camera's sample of the pixel: samples of a pixel are adjacent (shared/samples.h) */
     __global ulong* key = keys + (((size_t)j * (size_t)region.width + (size_t)i) << cam.sample_log2) + (size_t)cam.sample;

@@ -10,6 +10,7 @@
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
 #endif
+#include "shared/layers.h"
 #include "shared/raster_rule.h"
 #include "shared/scene_items.h"
 
@@ -45,6 +46,32 @@ static clvis_clip_vertex load_camera_vertex(clvis_camera_gpu cam, __global const
    in a scene with depth complexity most samples are behind what an earlier triangle drew. The
    read races with other work-items' atomics, which OpenCL leaves undefined and Oclgrind reports:
    it is made only where the hardware's answer is known. */
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+/* Depth layers (shared/layers.h): the lock-free cascade. The key goes into layer 0 by atomic min;
+   the larger of it and the key that was there goes on to the next layer, and so on, until a
+   layer was background (the key took an empty slot), held the key already, or the last layer is
+   passed. Every layer's key only decreases and every key carried moves only to later layers, so
+   however work-items interleave, each list ends sorted, holding the K smallest distinct keys
+   drawn (a key meets any copy of itself on its way). CLVIS_PEEK tests the last layer first: a
+   depth word below the key's there stays below it, and K keys nearer by depth leave no room; then
+   each layer: where its depth word is below the key's, the atomic would keep that layer's key and
+   carry this one on, which the carry does without it. */
+static void draw_key_layers(volatile __global ulong* p, size_t plane, ulong key)
+{
+#ifdef CLVIS_PEEK
+    if (((volatile __global const uint*)(p + (size_t)(CLVIS_LAYERS - 1) * plane))[1] < (uint)(key >> 32)) return;
+#endif
+    for (int k = 0; k < CLVIS_LAYERS; ++k) {
+#ifdef CLVIS_PEEK
+        if (((volatile __global const uint*)(p + (size_t)k * plane))[1] < (uint)(key >> 32)) continue;
+#endif
+        ulong old = atom_min(p + (size_t)k * plane, key);
+        if (old == key || old == CLVIS_BACKGROUND_KEY) return;
+        key = max(old, key);
+    }
+}
+#define draw_key(p, key) draw_key_layers(p, plane, key)
+#else
 static void draw_key(volatile __global ulong* p, ulong key)
 {
 #ifdef CLVIS_PEEK
@@ -52,6 +79,7 @@ static void draw_key(volatile __global ulong* p, ulong key)
 #endif
     atom_min(p, key);
 }
+#endif
 
 /* CLVIS_PREFETCH (PoCL's CPU device, Device::Impl::cpu_hints): the rows of keys a small
    triangle draws are fetched into the cache before its samples are computed, so that their misses
@@ -95,6 +123,9 @@ emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_raster_vertex 
     int n_log2 = out.cam.sample_log2;
     size_t sample = (size_t)out.cam.sample;
 #ifndef CLVIS_RASTER_OWNED
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+    size_t plane = ((size_t)out.region.width * (size_t)out.region.height) << n_log2; /* keys per layer */
+#endif
     int small = t.x1 - t.x0 < 8 && t.y1 - t.y0 < CLVIS_RASTER_SMALL_ROWS;
     if (small) prefetch_rows(&t, out);
     if ((t.x1 - t.x0 + 1) * (t.y1 - t.y0 + 1) <= CLVIS_RASTER_SCALAR) {
@@ -119,7 +150,7 @@ emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_raster_vertex 
             vstore8(key, 0, lane);
             volatile __global ulong* row =
                 out.keys + (((size_t)j * (size_t)out.region.width + (size_t)t.x0) << n_log2) + sample;
-#ifdef CLVIS_PEEK
+#if defined(CLVIS_PEEK) && !(defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1)
             if (n_log2 == 0 && t.x0 + 8 <= out.region.width) {
                 /* draw_key's test for the row's 8 keys at once (its depth words compared): the
                    lanes the triangle covers whose pixel is not already nearer take the atomic. */

@@ -4,6 +4,7 @@
    (RenderOptions::coverage), each triangle covers the pixel and gives it the depth the raster path
    would (shared/raster_rule.h) instead. */
 #include "shared/camera.h"
+#include "shared/layers.h"
 #ifdef CLVIS_RASTER_RULE
 #include "shared/raster_rule.h"
 #endif
@@ -24,12 +25,21 @@ __kernel void ray_brute(clvis_camera_gpu cam, __global const float* positions, _
     if (lx >= region.width || ly >= region.height) return;
     int px = region.x + lx, py = region.y + ly;
     ulong best = CLVIS_BACKGROUND_KEY;
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+    ulong list[CLVIS_LAYERS]; /* depth layers (shared/layers.h): the nearest keys, sorted */
+    for (int k = 0; k < CLVIS_LAYERS; ++k) list[k] = CLVIS_BACKGROUND_KEY;
+#define BRUTE_KEEP(key) clvis_layers_insert(list, 1, key)
+#define BRUTE_KEYS list
+#else
+#define BRUTE_KEEP(key) (best = (key) < best ? (key) : best)
+#define BRUTE_KEYS (&best)
+#endif
 #ifdef CLVIS_RASTER_RULE
     clvis_pixel_block blk = {px, py, 1, 1, 1};
     for (uint id = 0; id < triangle_count; ++id) {
         size_t i = 3 * (size_t)id;
         clvis_raster_rule_keys(cam, cull, load_vertex(positions, indices[i]), load_vertex(positions, indices[i + 1]),
-                               load_vertex(positions, indices[i + 2]), id, blk, &best);
+                               load_vertex(positions, indices[i + 2]), id, blk, BRUTE_KEYS);
     }
 #else
     clvis_vec3 origin, dir;
@@ -42,7 +52,19 @@ __kernel void ray_brute(clvis_camera_gpu cam, __global const float* positions, _
         int hit = clvis_intersect_triangle(ray, load_vertex(positions, indices[i]), load_vertex(positions, indices[i + 1]),
                                            load_vertex(positions, indices[i + 2]), cam.near_d, cam.far_d, cull, &t);
         ulong key = clvis_make_key(t, id);
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+        if (hit) BRUTE_KEEP(key);
+#else
         best = hit && key < best ? key : best;
+#endif
+    }
+#endif
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+    {
+        size_t plane = ((size_t)region.width * (size_t)region.height) << cam.sample_log2;
+        __global ulong* out = keys + (((size_t)ly * (size_t)region.width + (size_t)lx) << cam.sample_log2) + (size_t)cam.sample;
+        for (int k = 0; k < CLVIS_LAYERS; ++k) out[(size_t)k * plane] = list[k];
+        return;
     }
 #endif
     keys[(((size_t)ly * (size_t)region.width + (size_t)lx) << cam.sample_log2) + (size_t)cam.sample] = best;

@@ -12,6 +12,8 @@
 #include "shared/region.h"
 #include "shared/visibility.h"
 #ifdef CLVIS_RASTER_RULE
+/* depth layers: a packet's keys are K layers of 16, layer k of lane l at best[k * 16 + l] */
+#define CLVIS_RULE_LAYER_STRIDE CLVIS_PACKET
 #include "shared/raster_rule.h"
 #else
 #include "shared/ray_packet_tri.h"
@@ -65,7 +67,11 @@ static CLVIS_NOINLINE void packet_rule_leaf(__global const clvis_bvh_tri* tris, 
         clvis_raster_rule_keys(cam, faces, a, b, c, id, blk, best);
     }
     uint depth[CLVIS_PACKET];
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+    for (int l = 0; l < CLVIS_PACKET; ++l) depth[l] = (uint)(best[(CLVIS_LAYERS - 1) * CLVIS_PACKET + l] >> 32);
+#else
     for (int l = 0; l < CLVIS_PACKET; ++l) depth[l] = (uint)(best[l] >> 32);
+#endif
     *cull = fmin((lanes_f)(cam.far_d), as_float16(vload16(0, depth)));
 }
 #endif
@@ -103,6 +109,9 @@ typedef struct packet_walk {
     ulong* best;        /* the 16 keys */
 #else
     lanes_u *best_t, *best_id;
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+    ulong* lists;       /* depth layers: each lane's K nearest keys (shared/ray_packet_tri.h) */
+#endif
     float cull_max;     /* WALK_SPAN: the largest cull */
     int spread;         /* WALK_SPAN: the culls spread (some ray's nearest hit far before another's) */
 #endif
@@ -148,8 +157,13 @@ static inline CLVIS_ALWAYS_INLINE int packet_leaf(packet_walk* c, int variant, _
 #ifdef CLVIS_RASTER_RULE
     packet_rule_leaf(tris, first, count, xi, *c->cam, c->faces, c->x0, c->y0, c->best, c->cull);
 #else
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+    packet_test_leaf(c->p, tris, first, count, xi, c->cam->near_d, c->cam->far_d, c->faces, c->best_t, c->best_id,
+                     c->cull, c->lists);
+#else
     packet_test_leaf(c->p, tris, first, count, xi, c->cam->near_d, c->cam->far_d, c->faces, c->best_t, c->best_id,
                      c->cull);
+#endif
     if (variant == WALK_SPAN) {
         c->cull_max = max_lanes(*c->cull);
         c->spread = min_lanes(*c->cull) * 1.25f < c->cull_max;
@@ -189,9 +203,14 @@ trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int y0, __global
     c.p = &p;
     c.cam = &cam;
     c.faces = faces;
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+#define PACKET_KEYS (CLVIS_LAYERS * CLVIS_PACKET) /* depth layers: K layers of the 16 lanes */
+#else
+#define PACKET_KEYS CLVIS_PACKET
+#endif
 #ifdef CLVIS_RASTER_RULE
-    ulong best[CLVIS_PACKET];
-    for (int l = 0; l < CLVIS_PACKET; ++l) best[l] = CLVIS_BACKGROUND_KEY;
+    ulong best[PACKET_KEYS];
+    for (int l = 0; l < PACKET_KEYS; ++l) best[l] = CLVIS_BACKGROUND_KEY;
     lanes_f cull = (lanes_f)(cam.far_d); /* each ray's nearest key depth, or far */
     c.x0 = x0;
     c.y0 = y0;
@@ -202,6 +221,11 @@ trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int y0, __global
     lanes_f cull = (lanes_f)(cam.far_d * CLVIS_IZE_SCALE);
     c.best_t = &best_t;
     c.best_id = &best_id;
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+    ulong lists[PACKET_KEYS];
+    for (int l = 0; l < PACKET_KEYS; ++l) lists[l] = CLVIS_BACKGROUND_KEY;
+    c.lists = lists;
+#endif
 #endif
     c.cull = &cull;
     clvis_walk walk;
@@ -216,7 +240,9 @@ trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int y0, __global
 #endif
     while (walk.node != CLVIS_WALK_DONE) clvis_walk_step(&c, WALK_LANES, 1, nodes, tris, instances, &walk, &st);
 
-#ifndef CLVIS_RASTER_RULE
+#if !defined(CLVIS_RASTER_RULE) && defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+    ulong* best = lists;
+#elif !defined(CLVIS_RASTER_RULE)
     uint t_bits[CLVIS_PACKET], ids[CLVIS_PACKET];
     vstore16(best_t, 0, t_bits);
     vstore16(best_id, 0, ids);
@@ -225,6 +251,19 @@ trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int y0, __global
 #endif
     /* Row by row, one address per row: the packet's corner lies in the region (the launch). */
     int w = min(CLVIS_PACKET_W, x_end - x0), h = min(CLVIS_PACKET_H, y_end - y0);
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+    /* depth layers: layer k's keys `plane` keys after layer k - 1's (shared/layers.h); `keys`
+       holds the region (a batch of views is refused with layers) */
+    size_t plane = ((size_t)region.width * (size_t)region.height) << cam.sample_log2;
+    for (int k = 0; k < CLVIS_LAYERS; ++k)
+        for (int j = 0; j < h; ++j) {
+            __global ulong* row = keys + (size_t)k * plane +
+                                  ((((size_t)(y0 + j - region.y) * region.width + (x0 - region.x)) << cam.sample_log2) +
+                                   cam.sample);
+            for (int i = 0; i < w; ++i) row[(size_t)i << cam.sample_log2] = best[k * CLVIS_PACKET + j * CLVIS_PACKET_W + i];
+        }
+    return;
+#endif
     for (int j = 0; j < h; ++j) {
         __global ulong* row =
             keys + ((((size_t)(y0 + j - region.y) * region.width + (x0 - region.x)) << cam.sample_log2) + cam.sample);

@@ -11,6 +11,7 @@
 #include "shared/bvh.h"
 #include "shared/camera.h"
 #include "shared/instance.h"
+#include "shared/layers.h"
 #include "shared/ray.h"
 #include "shared/region.h"
 #include "shared/visibility.h"
@@ -23,8 +24,18 @@ typedef struct single_ray {
     clvis_ray_shear shear; /* the watertight test's */
     clvis_box_ray box;     /* the slab test's */
     int x, y;              /* the pixel, in the image */
-    ulong best;            /* the nearest key */
+    ulong best;            /* the nearest key (with depth layers: the last layer's, what pruning reads) */
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+    ulong list[CLVIS_LAYERS]; /* depth layers (shared/layers.h): the nearest keys, sorted */
+#endif
 } single_ray;
+
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+/* A box is pruned against the K-th nearest key: the background until K keys are found. */
+#define SINGLE_KEPT(r) ((r)->best = (r)->list[CLVIS_LAYERS - 1])
+#else
+#define SINGLE_KEPT(r) ((void)0)
+#endif
 
 static single_ray make_ray(clvis_camera_gpu cam, int x, int y)
 {
@@ -37,6 +48,9 @@ static single_ray make_ray(clvis_camera_gpu cam, int x, int y)
     r.x = x;
     r.y = y;
     r.best = CLVIS_BACKGROUND_KEY;
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+    for (int k = 0; k < CLVIS_LAYERS; ++k) r.list[k] = CLVIS_BACKGROUND_KEY;
+#endif
     return r;
 }
 
@@ -80,7 +94,12 @@ static void test_leaf(single_ray* r, clvis_camera_gpu cam, int faces, __global c
         float v[9];
         uint id = clvis_instance_triangle(tris + k, xi, v);
         clvis_vec3 a = {v[0], v[1], v[2]}, b = {v[3], v[4], v[5]}, c = {v[6], v[7], v[8]};
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+        clvis_raster_rule_keys(cam, faces, a, b, c, id, blk, r->list);
+        SINGLE_KEPT(r);
+#else
         clvis_raster_rule_keys(cam, faces, a, b, c, id, blk, &r->best);
+#endif
     }
 }
 #else
@@ -112,7 +131,12 @@ static void test_leaf(single_ray* r, clvis_camera_gpu cam, int faces, __global c
         clvis_vec3 a = {v[0], v[1], v[2]}, b = {v[3], v[4], v[5]}, c = {v[6], v[7], v[8]};
         if (!clvis_intersect_triangle(r->shear, a, b, c, cam.near_d, cam.far_d, faces, &t)) continue;
         ulong key = clvis_make_key(t, id);
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+        clvis_layers_insert(r->list, 1, key);
+        SINGLE_KEPT(r);
+#else
         r->best = key < r->best ? key : r->best;
+#endif
     }
 }
 #endif
@@ -148,6 +172,23 @@ static inline CLVIS_ALWAYS_INLINE int single_children(single_walk* c, __global c
     (test_leaf((c)->r, *(c)->cam, (c)->faces, tris, first, count, xi), 0)
 #include "shared/bvh_walk.h"
 
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+/* Depth layers: the K nearest keys of the ray of pixel (x, y) into out[0], out[plane], .. */
+static void trace_single_layers(clvis_camera_gpu cam, int x, int y, __global const clvis_bvh4_node* nodes,
+                                uint node_count, __global const clvis_bvh_tri* tris,
+                                __global const clvis_instance* instances, int two_level, int faces,
+                                __global ulong* out, size_t plane)
+{
+    single_ray r = make_ray(cam, x, y);
+    single_walk c = {&r, &cam, faces};
+    clvis_walk walk;
+    clvis_walk_stack st;
+    clvis_walk_start(&walk, node_count, two_level);
+    while (walk.node != CLVIS_WALK_DONE) clvis_walk_step(&c, 0, 1, nodes, tris, instances, &walk, &st);
+    for (int k = 0; k < CLVIS_LAYERS; ++k) out[(size_t)k * plane] = r.list[k];
+}
+#endif
+
 /* The nearest key of the ray of pixel (x, y); `two_level` starts in the top level of `instances`. */
 static ulong trace_single(clvis_camera_gpu cam, int x, int y, __global const clvis_bvh4_node* nodes, uint node_count,
                           __global const clvis_bvh_tri* tris, __global const clvis_instance* instances, int two_level,
@@ -168,6 +209,12 @@ __kernel void ray_trace_single(clvis_camera_gpu cam, __global const clvis_bvh4_n
 {
     int lx = (int)get_global_id(0), ly = (int)get_global_id(1); /* in the region (shared/region.h) */
     if (lx >= region.width || ly >= region.height) return;  /* the launch is rounded up to whole groups */
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+    trace_single_layers(cam, region.x + lx, region.y + ly, nodes, node_count, tris, instances, two_level, faces,
+                        keys + (((size_t)ly * (size_t)region.width + (size_t)lx) << cam.sample_log2) + (size_t)cam.sample,
+                        ((size_t)region.width * (size_t)region.height) << cam.sample_log2);
+    return;
+#endif
     ulong key = trace_single(cam, region.x + lx, region.y + ly, nodes, node_count, tris, instances, two_level, faces);
     keys[(((size_t)ly * (size_t)region.width + (size_t)lx) << cam.sample_log2) + (size_t)cam.sample] = key;
 }
@@ -183,6 +230,14 @@ __kernel void ray_trace_single_views(__global const clvis_camera_gpu* cams, __gl
     clvis_camera_gpu cam = cams[view];
     int x = (int)get_global_id(0), y = (int)get_global_id(1);
     if (x >= cam.width || y >= cam.height) return;
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+    /* a view's layers (the host makes `stride` hold them all) */
+    trace_single_layers(cam, x, y, nodes, node_count, tris, instances, two_level, faces,
+                        keys + view * stride + ((((size_t)y * (size_t)cam.width + (size_t)x) << cam.sample_log2) +
+                                                (size_t)cam.sample),
+                        ((size_t)cam.width * (size_t)cam.height) << cam.sample_log2);
+    return;
+#endif
     ulong key = trace_single(cam, x, y, nodes, node_count, tris, instances, two_level, faces);
     keys[view * stride + ((((size_t)y * (size_t)cam.width + (size_t)x) << cam.sample_log2) + (size_t)cam.sample)] = key;
 }

@@ -154,3 +154,39 @@ TEST_CASE("wrong files and formats are named in the error", "[image]")
     write_depth(temp_path("float.exr"), v);
     CHECK_THROWS_WITH(read_ids(temp_path("float.exr")), Catch::Contains("32-bit unsigned"));
 }
+
+TEST_CASE("depth layers are written as channels L0.id .. and L0.Z .. and read back by name", "[image][layers]")
+{
+    HostVisibility v;
+    v.width = 4;
+    v.height = 2;
+    v.layers = 3; // the layers of a pixel adjacent, nearest first
+    for (std::uint32_t i = 0; i < 24; ++i) {
+        v.ids.push_back(i % 3 == 2 ? background_id : 4000000000u + i);
+        v.depth.push_back(i % 3 == 2 ? std::numeric_limits<float>::infinity() : 0.25f + float(i) * 1e-3f);
+    }
+    std::string ids = temp_path("layers.exr"), depth = temp_path("layers-z.exr");
+    write_ids(ids, v);
+    write_depth(depth, v);
+    auto in = OIIO::ImageInput::open(ids);
+    REQUIRE(in);
+    CHECK(in->spec().nchannels == 3);
+    CHECK(in->spec().channelnames == std::vector<std::string>{"L0.id", "L1.id", "L2.id"});
+    in->close();
+    HostVisibility back = read_ids(ids);
+    read_depth(depth, back);
+    CHECK(back.layers == 3);
+    CHECK(back.samples == 1);
+    CHECK(back.ids == v.ids);
+    CHECK(back.depth == v.depth);
+    CHECK(back.layer(1).id(2, 1) == v.id(2, 1, 0, 1));
+    // TIFF keeps no names: the ids in layer order, read back as channels
+    std::string tif = temp_path("layers.tif");
+    write_ids(tif, v);
+    auto t = OIIO::ImageInput::open(tif);
+    REQUIRE(t);
+    CHECK(t->spec().nchannels == 3);
+    std::vector<std::uint32_t> raw(24);
+    t->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT32, raw.data());
+    CHECK(raw == v.ids);
+}

@@ -132,10 +132,44 @@ nlohmann::json verdict_json(const PixelVerdict& v)
     return j;
 }
 
+/// One line (or JSON object) per depth layer: each layer's counts.
+nlohmann::json layer_json(const CompareReport& r, int layer)
+{
+    nlohmann::json j = {{"layer", layer}, {"equal", r.equal}, {"explained", r.explained}, {"errors", r.errors}};
+    if (r.depths_judged)
+        j["depths"] = {{"equal", r.depth_equal}, {"explained", r.depth_explained}, {"errors", r.depth_errors}};
+    return j;
+}
+
+/// Depth layers: every layer's report summed into one (first errors in layer order, up to `max`).
+CompareReport sum_layers(const std::vector<CompareReport>& layers, std::size_t max)
+{
+    CompareReport t;
+    for (const CompareReport& r : layers) {
+        t.pixels += r.pixels;
+        t.judged += r.judged;
+        t.equal += r.equal;
+        t.explained += r.explained;
+        t.errors += r.errors;
+        t.errors_a += r.errors_a;
+        t.errors_b += r.errors_b;
+        t.depths_judged = r.depths_judged;
+        t.depth_equal += r.depth_equal;
+        t.depth_explained += r.depth_explained;
+        t.depth_errors += r.depth_errors;
+        t.depth_errors_a += r.depth_errors_a;
+        t.depth_errors_b += r.depth_errors_b;
+        for (const PixelVerdict& v : r.first_errors)
+            if (t.first_errors.size() < max) t.first_errors.push_back(v);
+    }
+    return t;
+}
+
 int run_compare(const CompareArgs& args)
 {
     Inputs in;
     CompareReport r;
+    std::vector<CompareReport> per_layer; // depth layers: a report per layer, r their sum
     try {
         in = read_inputs(args);
         if (args.all && args.differing_only) unusable("--all and --differing-only exclude each other");
@@ -145,7 +179,12 @@ int run_compare(const CompareArgs& args)
         CompareOptions options;
         options.differing_only = args.differing_only;
         options.max_reported = args.max_reported;
-        r = referee.compare(in.a, in.b, options);
+        if (in.a.layers > 1 || in.b.layers > 1) {
+            per_layer = referee.compare_layers(in.a, in.b, options);
+            r = sum_layers(per_layer, args.max_reported);
+        } else {
+            r = referee.compare(in.a, in.b, options);
+        }
     } catch (const Error& e) {
         std::cerr << "clvis: compare: " << e.what() << "\n";
         return exit_unusable;
@@ -175,6 +214,10 @@ int run_compare(const CompareArgs& args)
                            {"errors", r.depth_errors},       {"errors_first", r.depth_errors_a},
                            {"errors_second", r.depth_errors_b}};
         for (const PixelVerdict& v : r.first_errors) j["first_errors"].push_back(verdict_json(v));
+        if (!per_layer.empty()) {
+            j["layers"] = nlohmann::json::array();
+            for (std::size_t k = 0; k < per_layer.size(); ++k) j["layers"].push_back(layer_json(per_layer[k], int(k)));
+        }
         std::cout << j.dump(2) << "\n";
     } else {
         std::printf("%s vs %s: %zu pixels, %zu judged%s: %zu equal, %zu explained, %zu errors (first %zu, second "
@@ -185,6 +228,14 @@ int run_compare(const CompareArgs& args)
         if (r.depths_judged)
             std::printf("depths: %zu equal, %zu explained, %zu errors (first %zu, second %zu)\n", r.depth_equal,
                         r.depth_explained, r.depth_errors, r.depth_errors_a, r.depth_errors_b);
+        for (std::size_t k = 0; k < per_layer.size(); ++k) {
+            const CompareReport& l = per_layer[k];
+            std::printf("layer %zu: %zu equal, %zu explained, %zu errors", k, l.equal, l.explained, l.errors);
+            if (l.depths_judged)
+                std::printf("; depths: %zu equal, %zu explained, %zu errors", l.depth_equal, l.depth_explained,
+                            l.depth_errors);
+            std::printf("\n");
+        }
         for (const PixelVerdict& v : r.first_errors) std::printf("  %s\n", v.describe().c_str());
         if (r.first_errors.size() == args.max_reported && (r.errors > 0 || r.depth_errors > 0))
             std::printf("  ... (--max-errors N lists more)\n");

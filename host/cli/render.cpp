@@ -175,7 +175,7 @@ PathResult run_path(Renderer& renderer, const std::vector<Camera>& cameras, cons
     VisibilityBatch views;
     VisibilityBuffer vis;
     if (batch) views = VisibilityBatch(renderer.device(), int(cameras.size()), width, height);
-    else vis = VisibilityBuffer(renderer.device(), width, height, a.options.samples);
+    else vis = VisibilityBuffer(renderer.device(), width, height, a.options.samples, a.options.layers);
     auto frame = [&] {
         if (batch) render_views(renderer, *a.moving, cameras, a.items, path, views);
         else renderer.render(cameras[0], path, vis);
@@ -247,6 +247,17 @@ std::vector<Path> check_flags(const RenderArgs& a)
                 refuse(flag + ": attributes are resolved at one sample per pixel; --samples " +
                        std::to_string(a.options.samples) + " is for --ids, --depth, --image and --visible");
     a.corners.check(a.options.samples, a.spread.any());
+    if (a.options.layers != 1) { // depth layers: the buffers of one camera on one device
+        std::string k = "--layers " + std::to_string(a.options.layers);
+        if (a.options.samples != 1) refuse(k + ": depth layers take one sample per pixel (--samples 1)");
+        if (!a.views.empty() || (!a.spread.distribute.empty() && a.spread.distribute != "scene"))
+            refuse(k + ": --views and --distribute frames|screen draw one layer; render one camera (on one or more "
+                       "--devices, or --distribute scene)");
+        if (a.ao > 0) refuse(k + ": --ao shades one layer; render the image without --layers");
+        for (const auto& [flag, file, kind] : output_flags(a))
+            if (!file.empty() && kind != OutputKind::Ids && kind != OutputKind::Depth && flag != "--image")
+                refuse(flag + ": resolved for one layer; with " + k + " write --ids and --depth (--image shades layer 0)");
+    }
     if (a.path == "all" && !a.views.empty()) refuse("--views: renders one path (--path raster, ray or brute), not all");
     if (a.spread.any() && !a.flow.empty()) refuse("--flow: for one device in one process");
     if (a.spread.any()) {
@@ -426,6 +437,10 @@ void add_render_command(CLI::App& app)
                     "samples per pixel: 1, 2, 4, 8 or 16 at the standard positions (CONVENTIONS.md); the id and "
                     "depth files get channels id0.. and Z0.., the image is their mean")
         ->check(library_check([](int n) { samples_log2(n); }, "1, 2, 4, 8 or 16"));
+    cmd->add_option("--layers", args->options.layers,
+                    "depth layers: the K nearest triangles of every pixel (1 to 8; CONVENTIONS.md 'Depth layers'); "
+                    "the id and depth files get channels L0.id .. and L0.Z .. (TIFF: ids in layer order)")
+        ->check(library_check([](int n) { check_layers(n); }, "1 to 8"));
     RenderOptions& o = args->options;
     cmd->add_option("--tile", o.tile_size, "raster tile size in pixels (power of two; 0: default)")
         ->check(library_check(

@@ -73,7 +73,9 @@ void write_buffers(const SpreadRequest& r, const OutputPlan& plan, const std::ve
 {
     if (r.ids.empty() && r.depth.empty()) return;
 #if CLVIS_WITH_IMAGE_IO
-    HostVisibility vis = split_keys(keys.data(), r.width, r.height);
+    // depth layers (--distribute scene): K layer-major planes
+    int layers = int(keys.size() / (std::size_t(r.width) * std::size_t(r.height)));
+    HostVisibility vis = split_keys(keys.data(), r.width, r.height, 1, layers > 1 ? layers : 1);
     if (!r.ids.empty()) write_ids(plan.temporary(view_file_name(r.ids, view, last)), vis);
     if (!r.depth.empty()) write_depth(plan.temporary(view_file_name(r.depth, view, last)), vis);
 #else

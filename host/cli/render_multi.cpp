@@ -59,7 +59,7 @@ void write_files(const SpreadRequest& r, const MultiDeviceFrame& f)
     const std::string& device_map = r.spread.device_map;
     if (r.ids.empty() && r.depth.empty() && device_map.empty()) return;
 #if CLVIS_WITH_IMAGE_IO
-    HostVisibility vis = split_keys(f.keys.data(), f.width, f.height);
+    HostVisibility vis = split_keys(f.keys.data(), f.width, f.height, 1, f.layers);
     // One view: "{view}" in a name is 0, as render.cpp planned it.
     if (!r.ids.empty()) write_ids(r.plan->temporary(view_file_name(r.ids, 0, 0)), vis);
     if (!r.depth.empty()) write_depth(r.plan->temporary(view_file_name(r.depth, 0, 0)), vis);

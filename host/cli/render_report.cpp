@@ -147,6 +147,7 @@ nlohmann::json render_json(const RenderJson& run, Renderer& renderer, const std:
     j["camera"] = run.camera;
     j["coverage"] = to_string(run.options.coverage);
     j["samples"] = run.options.samples;
+    j["layers"] = run.options.layers; // depth layers (RenderOptions::layers)
     if (several) {
         j["build_ms"] = results[1].build_ms;
         j["results"] = nlohmann::json::array();

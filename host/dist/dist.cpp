@@ -6,6 +6,7 @@
 #include <clvis/error.hpp>
 #include <clvis/host_visibility.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <unordered_map>
 
@@ -131,10 +132,65 @@ Scene scene_part(const Scene& scene, Share share)
     return part;
 }
 
+/// Depth layers: merges the sorted lists of K keys at `in` into those at `inout`, keeping the K
+/// smallest distinct keys of each pixel (an MPI user operation; K from the datatype's size).
+extern "C" void merge_layer_lists(void* in, void* inout, int* len, MPI_Datatype* type)
+{
+    int bytes = 0;
+    MPI_Type_size(*type, &bytes);
+    const std::size_t k = std::size_t(bytes) / 8;
+    const auto* a = static_cast<const std::uint64_t*>(in);
+    auto* b = static_cast<std::uint64_t*>(inout);
+    std::uint64_t merged[8];
+    for (int p = 0; p < *len; ++p, a += k, b += k) {
+        std::size_t i = 0, j = 0, n = 0;
+        while (n < k) {
+            std::uint64_t x = i < k ? a[i] : background_key, y = j < k ? b[j] : background_key;
+            std::uint64_t m = x < y ? x : y;
+            i += x == m;
+            j += y == m; // one copy of a key both hold
+            merged[n++] = m;
+        }
+        std::copy_n(merged, k, b);
+    }
+}
+
+/// Scene compositing of depth layers: `mine` (K layer-major planes) reduced into `whole` on rank 0
+/// by merging each pixel's sorted lists (merge_layer_lists), pixels in one datatype of K keys.
+static void reduce_layers(MPI_Comm comm, const std::vector<std::uint64_t>& mine, std::vector<std::uint64_t>& whole,
+                   int layers)
+{
+    const std::size_t k = std::size_t(layers), pixels = mine.size() / k;
+    std::vector<std::uint64_t> lists(mine.size()), merged(whole.empty() ? 0 : mine.size());
+    for (std::size_t p = 0; p < pixels; ++p)
+        for (std::size_t l = 0; l < k; ++l) lists[p * k + l] = mine[l * pixels + p];
+    MPI_Datatype list_type;
+    MPI_Op merge;
+    check_mpi(MPI_Type_contiguous(layers, MPI_UINT64_T, &list_type), "MPI_Type_contiguous");
+    check_mpi(MPI_Type_commit(&list_type), "MPI_Type_commit");
+    check_mpi(MPI_Op_create(merge_layer_lists, 1, &merge), "MPI_Op_create");
+    int status = MPI_Reduce(lists.data(), merged.data(), int(pixels), list_type, merge, 0, comm);
+    MPI_Op_free(&merge);
+    MPI_Type_free(&list_type);
+    check_mpi(status, "MPI_Reduce (merge of sorted layers) of keys");
+    for (std::size_t p = 0; p < merged.size() / k; ++p)
+        for (std::size_t l = 0; l < k; ++l) whole[l * pixels + p] = merged[p * k + l];
+}
+
+/// MPI's frames and screen modes gather one key per pixel: depth layers (RenderOptions::layers) are refused.
+static void check_one_layer(const Renderer* renderer)
+{
+    if (renderer && renderer->options().layers != 1)
+        throw Error(Error::Kind::InvalidArgument, "MPI distribution composes one depth layer, the Renderer's options ask "
+                                                  "for layers " +
+                                                      std::to_string(renderer->options().layers));
+}
+
 Share render_frames(MPI_Comm comm, Renderer& renderer, const std::vector<Camera>& cameras, int width, int height,
                     Path path, const std::function<void(int view, const VisibilityBuffer& keys)>& on_view,
                     Timing* timing)
 {
+    check_one_layer(&renderer);
     check_size(width, height);
     int rank = rank_in(comm), ranks = size_of(comm);
     Share mine = share_of(cameras.size(), rank, ranks);
@@ -152,6 +208,7 @@ Share render_frames(MPI_Comm comm, Renderer& renderer, const std::vector<Camera>
 std::vector<std::uint64_t> render_screen(MPI_Comm comm, Renderer& renderer, const Camera& camera, int width,
                                          int height, Path path, Timing* timing)
 {
+    check_one_layer(&renderer);
     check_size(width, height);
     int rank = rank_in(comm), ranks = size_of(comm);
     Region band = rows_of(width, height, rank, ranks);
@@ -185,7 +242,10 @@ std::vector<std::uint64_t> render_scene(MPI_Comm comm, Renderer* renderer, std::
     check_size(width, height);
     int rank = rank_in(comm), ranks = size_of(comm);
     auto t0 = Clock::now();
-    std::vector<std::uint64_t> mine(std::size_t(width) * std::size_t(height), background_key);
+    // Depth layers (RenderOptions::layers): every rank learns K, a rank without triangles too.
+    int local_layers = renderer ? renderer->options().layers : 1, layers = 1;
+    check_mpi(MPI_Allreduce(&local_layers, &layers, 1, MPI_INT, MPI_MAX, comm), "MPI_Allreduce of the layers");
+    std::vector<std::uint64_t> mine(std::size_t(width) * std::size_t(height) * std::size_t(layers), background_key);
     if (renderer) {
         mine = renderer->render(camera, width, height, path).read_keys();
         // Local ids to the whole scene's: the same shift for every triangle keeps their order.
@@ -196,8 +256,11 @@ std::vector<std::uint64_t> render_scene(MPI_Comm comm, Renderer* renderer, std::
     std::vector<std::uint64_t> whole(rank == 0 ? mine.size() : 0);
     check_mpi(MPI_Barrier(comm), "MPI_Barrier");
     auto t1 = Clock::now();
-    check_mpi(MPI_Reduce(mine.data(), whole.data(), int(mine.size()), MPI_UINT64_T, MPI_MIN, 0, comm),
-              "MPI_Reduce (MPI_MIN) of keys");
+    if (layers == 1)
+        check_mpi(MPI_Reduce(mine.data(), whole.data(), int(mine.size()), MPI_UINT64_T, MPI_MIN, 0, comm),
+                  "MPI_Reduce (MPI_MIN) of keys");
+    else
+        reduce_layers(comm, mine, whole, layers);
     report_times(comm, timing, work_ms, ms_since(t1), mine.size() * 8 * std::size_t(ranks));
     return whole;
 }

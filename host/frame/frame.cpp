@@ -88,7 +88,8 @@ cl::Kernel make_clear_kernel(Device::Impl& device)
 
 void clear_keys(cl::Kernel& clear, Frame& frame)
 {
-    cl_uint count = cl_uint((std::size_t(frame.width) * frame.height) << frame.gpu_camera.sample_log2);
+    cl_uint count = cl_uint(((std::size_t(frame.width) * frame.height) << frame.gpu_camera.sample_log2) *
+                            std::size_t(frame.layers));
     clear.setArg(0, frame.keys);
     clear.setArg(1, count);
     cl::Event done;

@@ -81,6 +81,8 @@ struct Frame {
     int width = 0, height = 0;       ///< of the region drawn (keys' size); gpu_camera has the image's
     clvis_region region{};           ///< the pixels drawn, in the image (shared/region.h)
     StageRecorder* stages = nullptr;
+    int layers = 1;                  ///< RenderOptions::layers: `keys` holds this many layers of
+                                     ///< width * height * samples keys, layer-major (shared/layers.h)
 };
 
 /// Many views of one size in one buffer: view v's keys start at key v * stride.

@@ -35,13 +35,14 @@ std::shared_ptr<_cl_mem> hold(cl_mem mem) { return std::shared_ptr<_cl_mem>(mem,
 
 } // namespace
 
-VisibilityBuffer::VisibilityBuffer(const Device& device, int width, int height, int samples)
-    : device_(device), width_(width), height_(height), samples_(samples)
+VisibilityBuffer::VisibilityBuffer(const Device& device, int width, int height, int samples, int layers)
+    : device_(device), width_(width), height_(height), samples_(samples), layers_(layers)
 {
     auto& impl = detail::DeviceAccess::of(device, "VisibilityBuffer");
     check_size(width, height, "VisibilityBuffer");
     samples_log2(samples);
-    std::uint64_t bytes = std::uint64_t(width) * std::uint64_t(height) * std::uint64_t(samples) * 8;
+    check_layers(layers);
+    std::uint64_t bytes = std::uint64_t(width) * std::uint64_t(height) * std::uint64_t(samples) * std::uint64_t(layers) * 8;
     impl.check_allocation(bytes, "a " + std::to_string(width) + "x" + std::to_string(height) + " visibility buffer");
     try {
         cl::Buffer buffer(impl.context, CL_MEM_READ_WRITE, bytes);
@@ -57,7 +58,7 @@ VisibilityBuffer::VisibilityBuffer(const Device& device, int width, int height, 
 VisibilityBuffer::VisibilityBuffer(VisibilityBuffer&& other) noexcept
     : device_(std::move(other.device_)), keys_(std::move(other.keys_)),
       width_(std::exchange(other.width_, 0)), height_(std::exchange(other.height_, 0)),
-      samples_(std::exchange(other.samples_, 1))
+      samples_(std::exchange(other.samples_, 1)), layers_(std::exchange(other.layers_, 1))
 {
 }
 
@@ -68,21 +69,24 @@ VisibilityBuffer& VisibilityBuffer::operator=(VisibilityBuffer&& other) noexcept
     width_ = std::exchange(other.width_, 0);
     height_ = std::exchange(other.height_, 0);
     samples_ = std::exchange(other.samples_, 1);
+    layers_ = std::exchange(other.layers_, 1);
     return *this;
 }
 
-VisibilityBuffer VisibilityBuffer::wrap(const Device& device, cl_mem keys, int width, int height, int samples)
+VisibilityBuffer VisibilityBuffer::wrap(const Device& device, cl_mem keys, int width, int height, int samples,
+                                        int layers)
 {
     cl_context context = detail::DeviceAccess::of(device, "VisibilityBuffer::wrap").context();
     check_size(width, height, "VisibilityBuffer::wrap");
     samples_log2(samples);
+    check_layers(layers);
     if (!keys) throw Error(Error::Kind::InvalidArgument, "VisibilityBuffer::wrap: null buffer");
     if (context_of(keys) != context)
         throw Error(Error::Kind::InvalidArgument,
                     "VisibilityBuffer::wrap: the cl_mem belongs to another OpenCL context than the Device's");
     size_t bytes = 0;
     clGetMemObjectInfo(keys, CL_MEM_SIZE, sizeof bytes, &bytes, nullptr);
-    std::size_t needed = std::size_t(width) * std::size_t(height) * std::size_t(samples) * 8;
+    std::size_t needed = std::size_t(width) * std::size_t(height) * std::size_t(samples) * std::size_t(layers) * 8;
     if (bytes < needed)
         throw Error(Error::Kind::InvalidArgument,
                     "VisibilityBuffer::wrap: the buffer holds " + std::to_string(bytes) + " bytes, a " +
@@ -95,6 +99,7 @@ VisibilityBuffer VisibilityBuffer::wrap(const Device& device, cl_mem keys, int w
     v.width_ = width;
     v.height_ = height;
     v.samples_ = samples;
+    v.layers_ = layers;
     return v;
 }
 
@@ -160,6 +165,18 @@ std::vector<std::uint64_t> VisibilityBuffer::read_keys() const
 void VisibilityBuffer::read(std::uint32_t* ids, float* depth) const
 {
     std::size_t n = key_count();
+    if (layers_ > 1) { // layer-major on the device, the layers of a sample adjacent here
+        std::size_t plane = layer_keys(), layers = std::size_t(layers_);
+        with_mapped_keys(*this, "VisibilityBuffer::read", [&](const std::uint64_t* k) {
+            for (std::size_t i = 0; i < plane; ++i)
+                for (std::size_t l = 0; l < layers; ++l) {
+                    std::uint64_t key = k[l * plane + i];
+                    if (ids) ids[i * layers + l] = clvis_key_id(key);
+                    if (depth) depth[i * layers + l] = clvis_key_depth(key);
+                }
+        });
+        return;
+    }
     with_mapped_keys(*this, "VisibilityBuffer::read", [&](const std::uint64_t* k) {
         if (ids && depth) {
             for (std::size_t i = 0; i < n; ++i) {
@@ -180,6 +197,7 @@ void VisibilityBuffer::read(HostVisibility& out) const
     out.width = width_;
     out.height = height_;
     out.samples = samples_;
+    out.layers = layers_;
     out.ids.resize(n);
     out.depth.resize(n);
     read(out.ids.data(), out.depth.data());

@@ -45,14 +45,41 @@ std::vector<std::string> sample_channels(const std::string& base, int samples)
     return names;
 }
 
+/// The channels of a buffer's ids or depths ("id" or "Z"): with depth layers L0.<base> ..
+/// L{K-1}.<base> (one sample per pixel), else sample_channels.
+std::vector<std::string> buffer_channels(const std::string& base, const HostVisibility& vis)
+{
+    if (vis.layers <= 1) return sample_channels(base, vis.samples);
+    std::vector<std::string> names;
+    for (int k = 0; k < vis.layers; ++k) names.push_back("L" + std::to_string(k) + "." + base);
+    return names;
+}
+
 /// Opens `path` and checks it is an image of 1, 2, 4, 8 or 16 channels (samples per pixel).
-std::unique_ptr<OIIO::ImageInput> open_samples(const std::string& path, const char* what)
+/// Depth layers: K when the channels of `spec` are exactly L0.<base> .. L{K-1}.<base> (any
+/// order, K in 1 .. 8), else 0.
+int layered_channels(const OIIO::ImageSpec& spec, const std::string& base)
+{
+    int n = spec.nchannels;
+    if (n < 1 || n > 8 || spec.channelnames.size() != std::size_t(n)) return 0;
+    std::vector<bool> seen(std::size_t(n), false);
+    for (const std::string& name : spec.channelnames) {
+        int k = -1;
+        for (int j = 0; j < n; ++j)
+            if (name == "L" + std::to_string(j) + "." + base) k = j;
+        if (k < 0 || seen[std::size_t(k)]) return 0;
+        seen[std::size_t(k)] = true;
+    }
+    return n;
+}
+
+std::unique_ptr<OIIO::ImageInput> open_samples(const std::string& path, const char* what, const std::string& base)
 {
     auto in = OIIO::ImageInput::open(path);
     if (!in) io_error(path, std::string("cannot read ") + what + ": " + OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
     int n = spec.nchannels;
-    if (n != 1 && n != 2 && n != 4 && n != 8 && n != 16)
+    if (n != 1 && n != 2 && n != 4 && n != 8 && n != 16 && layered_channels(spec, base) == 0)
         io_error(path, std::string(what) + " must have 1, 2, 4, 8 or 16 channels (samples per pixel), this file has " +
                            std::to_string(n));
     if (spec.width <= 0 || spec.height <= 0 || spec.depth > 1) io_error(path, "not a 2D image");
@@ -77,7 +104,7 @@ void read_samples(OIIO::ImageInput& in, const std::string& path, const std::stri
         std::string name = c < spec.channelnames.size() ? spec.channelnames[c] : std::string();
         std::size_t k = n;
         for (std::size_t j = 0; j < n; ++j)
-            if (name == base + std::to_string(j)) k = j;
+            if (name == base + std::to_string(j) || name == "L" + std::to_string(j) + "." + base) k = j;
         named = k < n && !seen[k];
         if (named) seen[k] = true;
         sample[c] = named ? k : c;
@@ -143,20 +170,22 @@ std::vector<std::string> image_extensions()
 void write_ids(const std::string& path, const HostVisibility& vis)
 {
     if (!has_extension(path, id_extensions())) io_error(path, "id buffers are written as " + listed(id_extensions()));
-    if (vis.ids.size() != std::size_t(vis.width) * std::size_t(vis.height) * std::size_t(vis.samples))
-        io_error(path, "the id array does not match the image size and samples");
-    write_channels(path, vis.width, vis.height, sample_channels("id", vis.samples), OIIO::TypeDesc::UINT32,
-                   vis.ids.data());
+    if (vis.ids.size() != std::size_t(vis.width) * std::size_t(vis.height) * std::size_t(vis.samples) *
+                              std::size_t(vis.layers) ||
+        (vis.layers > 1 && vis.samples != 1))
+        io_error(path, "the id array does not match the image size, samples and layers");
+    write_channels(path, vis.width, vis.height, buffer_channels("id", vis), OIIO::TypeDesc::UINT32, vis.ids.data());
 }
 
 void write_depth(const std::string& path, const HostVisibility& vis)
 {
     if (!has_extension(path, depth_extensions()))
         io_error(path, "depth buffers are written as " + listed(depth_extensions()));
-    if (vis.depth.size() != std::size_t(vis.width) * std::size_t(vis.height) * std::size_t(vis.samples))
-        io_error(path, "the depth array does not match the image size and samples");
-    write_channels(path, vis.width, vis.height, sample_channels("Z", vis.samples), OIIO::TypeDesc::FLOAT,
-                   vis.depth.data());
+    if (vis.depth.size() != std::size_t(vis.width) * std::size_t(vis.height) * std::size_t(vis.samples) *
+                                std::size_t(vis.layers) ||
+        (vis.layers > 1 && vis.samples != 1))
+        io_error(path, "the depth array does not match the image size, samples and layers");
+    write_channels(path, vis.width, vis.height, buffer_channels("Z", vis), OIIO::TypeDesc::FLOAT, vis.depth.data());
 }
 
 void write_object_ids(const std::string& path, int width, int height, const std::vector<std::uint32_t>& objects)
@@ -195,7 +224,7 @@ std::vector<float> read_float_channels(const std::string& path, int* width, int*
 
 HostVisibility read_ids(const std::string& path)
 {
-    auto in = open_samples(path, "an id buffer");
+    auto in = open_samples(path, "an id buffer", "id");
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.format != OIIO::TypeDesc::UINT32)
         io_error(path, "an id buffer must hold 32-bit unsigned integers, this file holds " +
@@ -204,25 +233,35 @@ HostVisibility read_ids(const std::string& path)
     vis.width = spec.width;
     vis.height = spec.height;
     vis.samples = spec.nchannels;
-    vis.ids.resize(std::size_t(spec.width) * std::size_t(spec.height) * std::size_t(vis.samples));
+    if (int layers = layered_channels(spec, "id")) { // depth layers: L0.id .. (one sample per pixel)
+        vis.samples = 1;
+        vis.layers = layers;
+    }
+    vis.ids.resize(std::size_t(spec.width) * std::size_t(spec.height) * std::size_t(spec.nchannels));
     read_samples(*in, path, "id", OIIO::TypeDesc::UINT32, sizeof(std::uint32_t), vis.ids.data());
     return vis;
 }
 
 void read_depth(const std::string& path, HostVisibility& vis)
 {
-    auto in = open_samples(path, "a depth buffer");
+    auto in = open_samples(path, "a depth buffer", "Z");
     const OIIO::ImageSpec& spec = in->spec();
     if ((vis.width || vis.height) &&
-        (spec.width != vis.width || spec.height != vis.height || spec.nchannels != vis.samples))
+        (spec.width != vis.width || spec.height != vis.height || spec.nchannels != vis.samples * vis.layers))
         io_error(path, "depth is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " with " +
                            std::to_string(spec.nchannels) + " sample(s) per pixel, the ids are " +
                            std::to_string(vis.width) + "x" + std::to_string(vis.height) + " with " +
                            std::to_string(vis.samples));
     vis.width = spec.width;
     vis.height = spec.height;
-    vis.samples = spec.nchannels;
-    vis.depth.resize(std::size_t(spec.width) * std::size_t(spec.height) * std::size_t(vis.samples));
+    if (int layers = layered_channels(spec, "Z")) {
+        vis.samples = 1;
+        vis.layers = layers;
+    } else {
+        vis.samples = spec.nchannels;
+        vis.layers = 1;
+    }
+    vis.depth.resize(std::size_t(spec.width) * std::size_t(spec.height) * std::size_t(spec.nchannels));
     read_samples(*in, path, "Z", OIIO::TypeDesc::FLOAT, sizeof(float), vis.depth.data());
 }
 

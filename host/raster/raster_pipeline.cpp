@@ -262,9 +262,14 @@ RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& option
     Impl& m = *impl_;
     try {
         m.clear = make_clear_kernel(device);
-        cl::Program setup = device.program("raster_setup", m.owned              ? "-DCLVIS_RASTER_OWNED"
-                                                           : device.cpu_hints() ? "-DCLVIS_PREFETCH=1 -DCLVIS_PEEK=1"
-                                                                                : "");
+        // Depth layers (RenderOptions::layers, shared/layers.h): compiled in only for K > 1.
+        std::string layers = options.layers > 1 ? "-DCLVIS_LAYERS=" + std::to_string(options.layers) : "";
+        auto with_layers = [&](std::string define) {
+            return layers.empty() ? define : define.empty() ? layers : define + " " + layers;
+        };
+        cl::Program setup = device.program("raster_setup", with_layers(m.owned              ? "-DCLVIS_RASTER_OWNED"
+                                                                       : device.cpu_hints() ? "-DCLVIS_PREFETCH=1 -DCLVIS_PEEK=1"
+                                                                                            : ""));
         m.vertices = cl::Kernel(setup, "raster_setup_vertices");
         m.setup = cl::Kernel(setup, "raster_setup");
         m.item_vertices = cl::Kernel(setup, "raster_setup_item_vertices");
@@ -274,7 +279,7 @@ RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& option
         m.bin_count = cl::Kernel(bin, "raster_bin_count");
         m.bin_scan = cl::Kernel(bin, "raster_bin_scan");
         m.bin_fill = cl::Kernel(bin, "raster_bin_fill");
-        m.fine = cl::Kernel(device.program("raster_fine", device.cpu_hints() ? "-DCLVIS_PREFETCH=1" : ""),
+        m.fine = cl::Kernel(device.program("raster_fine", with_layers(device.cpu_hints() ? "-DCLVIS_PREFETCH=1" : "")),
                             m.pixel ? "raster_fine_pixel" : "raster_fine");
         m.pick_groups();
         m.plan_fine_chunks();

@@ -49,6 +49,20 @@ std::string coverage_define(Coverage coverage)
     return coverage == Coverage::RasterRule ? "-DCLVIS_RASTER_RULE=1" : "";
 }
 
+/// The build option of depth layers (RenderOptions::layers): none for one layer, so that a
+/// one-layer build is the kernels' own.
+std::string layers_define(int layers)
+{
+    return layers > 1 ? "-DCLVIS_LAYERS=" + std::to_string(layers) : "";
+}
+
+/// Joins build options, skipping empty ones.
+std::string join_defines(std::string a, const std::string& b)
+{
+    if (b.empty()) return a;
+    return a.empty() ? b : a + " " + b;
+}
+
 double ms_since(std::chrono::steady_clock::time_point t0)
 {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -132,7 +146,12 @@ struct RayPipeline::Impl {
         int entries = two_level ? levels.stack_entries() : 3 * wide.depth + 1;
         int stack = (entries / stack_step + 1) * stack_step;
         if (stack == trace_stack) return;
-        std::string define = coverage_define(options.coverage);
+        if (options.layers > 1 && !single && device.loop_limit() != Device::Impl::loop_unlimited)
+            throw Error(Error::Kind::InvalidArgument,
+                        "layers " + std::to_string(options.layers) + " with ray mapping 'packet' on " + device.info.name +
+                            ", which caps a work-item's loops: its 16 lanes' layers could pass the cap; use ray "
+                            "mapping 'single' or 'auto'");
+        std::string define = join_defines(coverage_define(options.coverage), layers_define(options.layers));
         std::string name = single ? "ray_trace_single" : "ray_trace";
         if (!single && device.cpu_hints()) define += " -DCLVIS_PREFETCH=1";
         cl::Program program = device.program(name, "-DCLVIS_RAY_STACK=" + std::to_string(stack) +
@@ -318,7 +337,7 @@ struct RayPipeline::Impl {
 RayPipeline::RayPipeline(Device::Impl& device, const RenderOptions& options)
     : impl_(std::make_unique<Impl>(device, options))
 {
-    impl_->brute = cl::Kernel(device.program("ray_brute", coverage_define(options.coverage)), "ray_brute");
+    impl_->brute = cl::Kernel(device.program("ray_brute", join_defines(coverage_define(options.coverage), layers_define(options.layers))), "ray_brute");
     impl_->brute_group = impl_->pick_group(impl_->brute);
 }
 

@@ -117,6 +117,23 @@ Referee::Impl::Nearest Referee::Impl::nearest(int x, int y, int log2n, int k) co
     return n;
 }
 
+Referee::Impl::Nearest Referee::Impl::nearest_excluding(int x, int y, const std::uint32_t* excluded, int count,
+                                                        int log2n, int k) const
+{
+    Nearest n;
+    for_candidates(
+        x, y,
+        [&](std::uint32_t id, const TriangleAtSample& s) {
+            if (s.cls != SampleClass::In || !(s.depth < n.depth || (s.depth == n.depth && id < n.id))) return;
+            for (int e = 0; e < count; ++e)
+                if (excluded[e] == id) return;
+            n.id = id;
+            n.depth = s.depth;
+        },
+        log2n, k);
+    return n;
+}
+
 Referee::Referee(const Scene& scene, const Camera& camera, int width, int height, const RenderOptions& options,
                  RefereeTolerance tolerance)
     : impl_(std::make_unique<Impl>())

@@ -85,6 +85,8 @@ struct Referee::Impl {
     }
     template <class Fn> void for_candidates(int x, int y, Fn fn, int log2n = 0, int k = 0) const;
     Nearest nearest(int x, int y, int log2n = 0, int k = 0) const;
+    /// nearest() among the triangles other than the `count` ids of `excluded` (depth layers).
+    Nearest nearest_excluding(int x, int y, const std::uint32_t* excluded, int count, int log2n = 0, int k = 0) const;
     /// Judges one answer (its id, and its depth when it has one) at pixel (x, y).
     /// `depth_px`: CompareOptions::depth_px.
     PixelVerdict judge(int x, int y, const SampleAnswer& answer, const Nearest& n, double depth_px, int log2n = 0,
@@ -98,6 +100,13 @@ struct Referee::Impl {
     detail::Linear to_raster(double kx, double ky, double k0) const;
     void project(Vec3 cam, double* x, double* y) const;
 };
+
+/// Counts one sample's verdicts of two buffers' answers into r (pb null: one buffer, checked);
+/// same_id and same_depth say whether the two answers (check(): answer and reference) are equal.
+void referee_tally(CompareReport& r, const PixelVerdict& va, const PixelVerdict* pb, bool same_id, bool same_depth,
+                   std::size_t max_reported);
+/// Error(InvalidArgument) unless o is valid (CompareOptions::depth_px).
+void referee_check_options(const CompareOptions& o);
 
 /// Error(InvalidArgument) unless (x, y) is a pixel of the referee's image.
 void referee_check_pixel(const Referee::Impl& impl, int x, int y);

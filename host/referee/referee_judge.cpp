@@ -106,6 +106,14 @@ void tally(CompareReport& r, const PixelVerdict& va, const PixelVerdict* pb, boo
 
 } // namespace
 
+void referee_tally(CompareReport& r, const PixelVerdict& va, const PixelVerdict* pb, bool same_id, bool same_depth,
+                   std::size_t max_reported)
+{
+    tally(r, va, pb, same_id, same_depth, max_reported);
+}
+
+void referee_check_options(const CompareOptions& o) { check_options(o); }
+
 PixelVerdict Referee::Impl::judge(int x, int y, const SampleAnswer& answer, const Nearest& n, double depth_px,
                                   int log2n, int k) const
 {
@@ -265,6 +273,7 @@ const char* to_string(AnswerError error) noexcept
     case AnswerError::Clipped: return "clipped";
     case AnswerError::InvalidId: return "invalid id";
     case AnswerError::Culled: return "culled";
+    case AnswerError::Repeated: return "repeated";
     }
     return "unknown";
 }
@@ -300,6 +309,7 @@ std::string PixelVerdict::describe() const
     case AnswerError::Clipped: s += " (clipped: depth outside [near, far])"; break;
     case AnswerError::InvalidId: s += " (invalid id: not a triangle of the scene)"; break;
     case AnswerError::Culled: s += " (culled: it faces the way the cull option drops)"; break;
+    case AnswerError::Repeated: s += " (repeated: an earlier depth layer of the sample holds it)"; break;
     }
     if (nearest_id != background_id)
         s += "; nearest covering: id " + std::to_string(nearest_id) + " at depth " + number(nearest_depth);

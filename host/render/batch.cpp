@@ -13,8 +13,14 @@ namespace clvis {
 using namespace detail;
 
 VisibilityBatch::VisibilityBatch(const Device& device, int views, int width, int height)
-    : device_(device), width_(width), height_(height)
+    : VisibilityBatch(device, views, width, height, 1)
 {
+}
+
+VisibilityBatch::VisibilityBatch(const Device& device, int views, int width, int height, int layers)
+    : device_(device), width_(width), height_(height), layers_(layers)
+{
+    check_layers(layers);
     if (views <= 0 || width <= 0 || height <= 0)
         throw Error(Error::Kind::InvalidArgument, "VisibilityBatch: views and size must be positive, got " +
                                                       std::to_string(views) + " views of " + std::to_string(width) +
@@ -22,15 +28,16 @@ VisibilityBatch::VisibilityBatch(const Device& device, int views, int width, int
     auto& impl = DeviceAccess::of(device, "VisibilityBatch");
     // Sub-buffers must start on the device's base address alignment (in bits).
     std::size_t align_keys = std::max<std::size_t>(impl.device.getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>() / 64, 1);
-    stride_ = round_up(std::size_t(width) * std::size_t(height), align_keys);
+    stride_ = round_up(std::size_t(width) * std::size_t(height) * std::size_t(layers), align_keys);
     std::uint64_t bytes = std::uint64_t(stride_) * std::uint64_t(views) * 8;
     impl.check_allocation(bytes, "a batch of " + std::to_string(views) + " visibility buffers");
     try {
         cl::Buffer all(impl.context, CL_MEM_READ_WRITE, bytes);
         for (int v = 0; v < views; ++v) {
-            cl_buffer_region region{std::size_t(v) * stride_ * 8, std::size_t(width) * std::size_t(height) * 8};
+            cl_buffer_region region{std::size_t(v) * stride_ * 8,
+                                    std::size_t(width) * std::size_t(height) * std::size_t(layers) * 8};
             cl::Buffer view = all.createSubBuffer(CL_MEM_READ_WRITE, CL_BUFFER_CREATE_TYPE_REGION, &region);
-            buffers_.push_back(VisibilityBuffer::wrap(device, view(), width, height));
+            buffers_.push_back(VisibilityBuffer::wrap(device, view(), width, height, 1, layers));
         }
         clRetainMemObject(all());
         keys_ = std::shared_ptr<_cl_mem>(all(), clReleaseMemObject);
@@ -84,6 +91,7 @@ void enqueue_views(Renderer::Impl& m, const std::vector<clvis_camera_gpu>& gpu, 
     }
     for (int v = first; v < first + count; ++v) {
         Frame frame;
+        frame.layers = m.options.layers;
         frame.queue = m.queue;
         frame.width = target.width();
         frame.height = target.height();
@@ -111,6 +119,11 @@ Renderer::Impl& check_views(Renderer& renderer, const std::vector<Camera>& camer
         throw Error(Error::Kind::InvalidArgument,
                     "render_views: a batch holds one sample per pixel, the Renderer's options ask for " +
                         std::to_string(m.options.samples) + " (render those views one by one)");
+    if (m.options.layers != target.layers())
+        throw Error(Error::Kind::InvalidArgument,
+                    "render_views: the batch holds " + std::to_string(target.layers()) +
+                        " depth layer(s) per view, the Renderer's options ask for layers " +
+                        std::to_string(m.options.layers) + " (VisibilityBatch(device, views, width, height, layers))");
     if (target.view(0).device().context() != m.device.context())
         throw Error(Error::Kind::InvalidArgument, "render_views: the batch belongs to another OpenCL context");
     renderer.prepare(path);

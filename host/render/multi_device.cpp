@@ -36,17 +36,18 @@ struct TileGrid {
 /// A device's buffers of tile sizes (at most four: inner, right, bottom, corner), kept for the frame.
 class TileBuffers {
 public:
-    explicit TileBuffers(const Device& device) : device_(device) {}
+    TileBuffers(const Device& device, int layers) : device_(device), layers_(layers) {}
     VisibilityBuffer& of(int width, int height)
     {
         for (auto& b : buffers_)
             if (b.width() == width && b.height() == height) return b;
-        buffers_.emplace_back(device_, width, height);
+        buffers_.emplace_back(device_, width, height, 1, layers_);
         return buffers_.back();
     }
 
 private:
     Device device_;
+    int layers_ = 1; ///< RenderOptions::layers: each tile's buffer holds them, layer-major
     std::vector<VisibilityBuffer> buffers_;
 };
 
@@ -143,7 +144,9 @@ void MultiDeviceRenderer::render(const Camera& camera, int width, int height, Pa
     out.width = width;
     out.height = height;
     out.tiles = grid.count();
-    out.keys.resize(pixels);
+    const int layers = renderers_[0].options().layers; // depth layers: K planes, layer-major
+    out.layers = layers;
+    out.keys.resize(pixels * std::size_t(layers));
     out.device_of.assign(options.device_map ? pixels : 0, 0);
     out.devices.assign(renderers_.size(), DeviceShare{});
     std::atomic<int> next{0};
@@ -154,7 +157,7 @@ void MultiDeviceRenderer::render(const Camera& camera, int width, int height, Pa
         share.device = renderer.device().info().name;
         share.index = renderer.device().info().index;
         try {
-            TileBuffers buffers(renderer.device());
+            TileBuffers buffers(renderer.device(), layers);
             std::vector<std::uint64_t> keys;
             for (int k = next++; k < grid.count() && !failure.failed(); k = next++) {
                 auto t = Clock::now();
@@ -162,9 +165,12 @@ void MultiDeviceRenderer::render(const Camera& camera, int width, int height, Pa
                 VisibilityBuffer& target = buffers.of(r.width, r.height);
                 renderer.render(camera, width, height, r, path, target);
                 target.read_keys(keys);
+                std::size_t tile_plane = std::size_t(r.width) * std::size_t(r.height);
                 for (int j = 0; j < r.height; ++j) {
                     std::size_t row = std::size_t(r.y + j) * std::size_t(width) + std::size_t(r.x);
-                    std::copy_n(keys.begin() + std::ptrdiff_t(j) * r.width, r.width, out.keys.begin() + std::ptrdiff_t(row));
+                    for (int l = 0; l < layers; ++l)
+                        std::copy_n(keys.begin() + std::ptrdiff_t(l * tile_plane + std::size_t(j) * std::size_t(r.width)),
+                                    r.width, out.keys.begin() + std::ptrdiff_t(l * pixels + row));
                     if (options.device_map) std::fill_n(out.device_of.begin() + std::ptrdiff_t(row), r.width, std::uint8_t(d));
                 }
                 ++share.tiles;

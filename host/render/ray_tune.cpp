@@ -3,6 +3,7 @@
 #include "render/ray_tune.hpp"
 
 #include "render/tune_workload.hpp"
+#include "runtime/cl_runtime.hpp"
 
 #include <string>
 
@@ -11,6 +12,12 @@ namespace clvis::detail {
 RayMappingChoice choose_ray_mapping(const Device& device, const RenderOptions& options)
 {
     if (options.ray_mapping != RayMapping::Auto) return {options.ray_mapping};
+    // Depth layers on a device that caps a work-item's loops (llvmpipe, Device::Impl::loop_limit):
+    // a packet's 16 lanes inserting into K layers each can pass the cap, and the device then ends
+    // the work-item's loops silently; a ray per work-item stays far below it.
+    if (options.layers > 1 &&
+        DeviceAccess::of(device, "choose_ray_mapping").loop_limit() != Device::Impl::loop_unlimited)
+        return {RayMapping::Single, "layers"};
     TunedMapping t = tune_mapping(ray_mapping_request(device, options));
     return {ray_mapping_from_string(t.choice), t.source, t.ms[0], t.ms[1]};
 }

@@ -32,6 +32,11 @@ void check_options(const RenderOptions& o)
         throw Error(Error::Kind::InvalidArgument,
                     "BVH SAH bins must lie in [2, 256], got " + std::to_string(o.bvh.sah_bins));
     samples_log2(o.samples); // 1, 2, 4, 8 or 16
+    check_layers(o.layers);  // 1 to 8
+    if (o.layers > 1 && o.samples > 1)
+        throw Error(Error::Kind::InvalidArgument, "layers " + std::to_string(o.layers) + " with samples " +
+                                                      std::to_string(o.samples) +
+                                                      ": depth layers take one sample per pixel");
     if (o.coverage != Coverage::Watertight && o.coverage != Coverage::RasterRule)
         throw Error(Error::Kind::InvalidArgument,
                     "unknown coverage mode " + std::to_string(static_cast<int>(o.coverage)));
@@ -215,7 +220,7 @@ VisibilityBuffer Renderer::render(const Camera& camera, int width, int height, P
     if (region.whole()) region = Region{0, 0, width, height};
     check_region(region, width, height);
     return error_boundary(std::string("rendering with the ") + to_string(path) + " path", [&] {
-        VisibilityBuffer target(m.device, region.width, region.height, m.options.samples);
+        VisibilityBuffer target(m.device, region.width, region.height, m.options.samples, m.options.layers);
         m.render(camera, width, height, region, path, target);
         return target;
     });
@@ -260,7 +265,12 @@ void Renderer::Impl::render(const Camera& camera, int width, int height, const R
                                                       std::to_string(target.samples()) +
                                                       " sample(s) per pixel, the options ask for " +
                                                       std::to_string(options.samples));
+    if (target.layers() != options.layers)
+        throw Error(Error::Kind::InvalidArgument, "Renderer::render: the target holds " +
+                                                      std::to_string(target.layers()) +
+                                                      " layer(s), the options ask for " + std::to_string(options.layers));
     Frame frame;
+    frame.layers = options.layers;
     frame.queue = queue;
     frame.width = region.width;
     frame.height = region.height;

@@ -22,14 +22,18 @@ public:
     /// `views` visibility buffers of width x height in one allocation. Error(InvalidArgument) for
     /// sizes <= 0, Error(Limit) past the device's largest allocation.
     VisibilityBatch(const Device& device, int views, int width, int height);
+    /// With `layers` depth layers per view (RenderOptions::layers, 1 to 8): each view a buffer of
+    /// that many layers, laid out as VisibilityBuffer lays them.
+    VisibilityBatch(const Device& device, int views, int width, int height, int layers);
 
     int views() const { return int(buffers_.size()); }
     int width() const { return width_; }
     int height() const { return height_; }
-    /// All keys on the device: view v's width * height keys start at key v * stride().
+    int layers() const { return layers_; } ///< depth layers per view
+    /// All keys on the device: view v's width * height (* layers) keys start at key v * stride().
     cl_mem keys() const;
-    /// Keys from one view to the next: width * height rounded up to the device's sub-buffer
-    /// alignment.
+    /// Keys from one view to the next: width * height * layers rounded up to the device's
+    /// sub-buffer alignment.
     std::size_t stride() const { return stride_; }
     /// View v as a VisibilityBuffer (a sub-buffer of keys()): read it, shade it, resolve its
     /// attributes or mark a visible set with it, on the device or into the caller's storage.
@@ -41,6 +45,7 @@ private:
     std::vector<VisibilityBuffer> buffers_;
     int width_ = 0, height_ = 0;
     std::size_t stride_ = 0;
+    int layers_ = 1;
 };
 
 /// Renders `cameras` (all validated first) into `target`, whose view count and size fix the

@@ -64,7 +64,9 @@ std::vector<std::uint64_t> render_screen(MPI_Comm comm, Renderer& renderer, cons
 
 /// Scene: `renderer` holds the triangles from `id_base` on of the whole scene (scene_part of
 /// share_of), or is null for an empty share. Renders the whole image, moves the ids to the whole
-/// scene's, and reduces the keys by MPI_MIN onto rank 0, which receives them.
+/// scene's, and reduces the keys by MPI_MIN onto rank 0, which receives them. With depth layers
+/// (RenderOptions::layers, the largest of any rank's) each pixel's sorted lists are merged instead
+/// (a user operation keeping the K smallest keys), K layer-major planes as a VisibilityBuffer's.
 std::vector<std::uint64_t> render_scene(MPI_Comm comm, Renderer* renderer, std::uint32_t id_base,
                                         const Camera& camera, int width, int height, Path path,
                                         Timing* timing = nullptr);

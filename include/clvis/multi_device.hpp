@@ -33,7 +33,8 @@ struct DeviceShare {
 
 struct MultiDeviceFrame {
     int width = 0, height = 0;
-    std::vector<std::uint64_t> keys;     ///< width * height keys, row 0 on top
+    std::vector<std::uint64_t> keys;     ///< width * height keys, row 0 on top (times `layers`, layer-major)
+    int layers = 1;                      ///< depth layers (RenderOptions::layers), as VisibilityBuffer lays them out
     std::vector<std::uint8_t> device_of; ///< with device_map: per pixel, the index of the device that drew it
     std::vector<DeviceShare> devices;    ///< in the renderer's device order
     int tiles = 0;                       ///< tiles in the frame

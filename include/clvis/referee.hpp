@@ -65,6 +65,7 @@ enum class AnswerError {
     Clipped,       ///< its depth at the sample is outside [near, far]
     InvalidId,     ///< an id that is neither a triangle of the scene nor the background
     Culled,        ///< it robustly covers the sample but faces the way RenderOptions::cull drops
+    Repeated,      ///< depth layers: a triangle an earlier layer of the sample already holds
 };
 
 const char* to_string(AnswerError error) noexcept;
@@ -193,6 +194,16 @@ public:
     /// Judges every pixel of one buffer, its depths too when it holds them (errors_a counts its
     /// errors; equal and explained compare it with reference()).
     CompareReport check(const HostVisibility& a, const CompareOptions& options = {}) const;
+    /// Depth layers (HostVisibility::layers, CONVENTIONS.md "Depth layers"), one report per layer.
+    /// Layer k is judged as the (k+1)-th nearest covering triangle: as layer 0 is judged, with
+    /// the triangles the buffer holds at the sample's earlier layers taken out (d* is the nearest
+    /// *in* triangle not among them), and a triangle an earlier layer holds is an error
+    /// (AnswerError::Repeated). With one layer, check() and compare() give reports[0].
+    std::vector<CompareReport> check_layers(const HostVisibility& a, const CompareOptions& options = {}) const;
+    /// Compares two buffers with the same number of layers, layer by layer, each judged as above
+    /// against its own earlier layers.
+    std::vector<CompareReport> compare_layers(const HostVisibility& a, const HostVisibility& b,
+                                              const CompareOptions& options = {}) const;
 
     struct Impl;
 

@@ -179,7 +179,19 @@ struct RenderOptions {
     /// width x height x samples keys, the samples of a pixel adjacent. Anything else is refused
     /// (Error(InvalidArgument)).
     int samples = 1;
+    /// Depth layers: 1 to 8 (CONVENTIONS.md "Depth layers"). With K > 1 every sample keeps the K
+    /// nearest distinct triangles that cover it, sorted by key (depth bits, then id), missing
+    /// layers background; layer 0 is the one-layer buffer bit for bit. Every path gives the same
+    /// layers (in Coverage::RasterRule the ray paths' equal the raster path's bit for bit). The
+    /// buffer holds K layers of width x height x samples keys, layer-major (VisibilityBuffer).
+    /// Refused by name (Error(InvalidArgument)) with samples > 1 and by MPI's frames and screen
+    /// modes; regions, instances, batches of views (VisibilityBatch with layers),
+    /// MultiDeviceRenderer and MPI's scene mode (sorted lists merged) keep every layer.
+    int layers = 1;
 };
+
+/// Checks RenderOptions::layers (1 to 8); throws Error(InvalidArgument) naming the value otherwise.
+void check_layers(int layers);
 
 /// log2 of a valid sample count (1, 2, 4, 8 or 16); throws Error(InvalidArgument) naming the
 /// value otherwise.

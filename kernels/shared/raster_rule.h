@@ -8,7 +8,12 @@
 #ifndef CLVIS_SHARED_RASTER_RULE_H
 #define CLVIS_SHARED_RASTER_RULE_H
 
+#include "shared/layers.h"
 #include "shared/raster.h"
+
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1 && !defined(CLVIS_RULE_LAYER_STRIDE)
+#define CLVIS_RULE_LAYER_STRIDE 1 /* a pixel block of one pixel: its layers adjacent */
+#endif
 
 /* Worst case of Sutherland-Hodgman: a polygon of n vertices, I of them inside, comes out with
    I + (sign changes) <= I + 2 min(I, n - I) <= 1.5 n vertices. Exact clipping keeps a triangle
@@ -85,7 +90,13 @@ static inline void clvis_raster_rule_block(clvis_raster_vertex v0, clvis_raster_
         for (int i = i0; i <= i1; ++i) {
             clvis_u64 key = clvis_raster_sample(&t, i, j, cam.ortho, cam.near_d, cam.far_d);
             clvis_u64* slot = best + (j - b.y0) * b.stride + (i - b.x0);
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+            /* depth layers: `best` holds CLVIS_LAYERS lists, layer k of a pixel
+               CLVIS_RULE_LAYER_STRIDE keys after layer k - 1 (shared/layers.h) */
+            clvis_layers_insert(slot, CLVIS_RULE_LAYER_STRIDE, key);
+#else
             *slot = key < *slot ? key : *slot;
+#endif
         }
     }
 }

@@ -129,8 +129,20 @@ static CLVIS_NOINLINE packet_edges packet_wide(const packet* p, const float* ver
 /* clvis_intersect_triangle on every lane (culling by `faces`, CLVIS_CULL_*), keeping each lane's
    nearest key (t bits, then id). The vertices are permuted to each lane's shear axes and the lane's permuted origin subtracted: the
    same single subtraction as the scalar test, whichever comes first. */
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+/* Depth layers (shared/layers.h): each lane's K nearest keys, sorted, in `lists` (layer k of lane
+   l at lists[k * CLVIS_PACKET + l]); best_t and best_id then hold each lane's K-th key, what the
+   walk prunes against (the background until K are found). */
+#include "shared/layers.h"
+#define CLVIS_PACKET_LISTS_PARAM , ulong* lists
+#define CLVIS_PACKET_LISTS_ARG , lists
+#else
+#define CLVIS_PACKET_LISTS_PARAM
+#define CLVIS_PACKET_LISTS_ARG
+#endif
+
 static void packet_test_triangle(const packet* p, const float* vert, uint tri_id, float near_t, float far_t,
-                                 int faces, lanes_u* best_t, lanes_u* best_id)
+                                 int faces, lanes_u* best_t, lanes_u* best_id CLVIS_PACKET_LISTS_PARAM)
 {
     lanes_f akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz;
     lanes_i trusted;
@@ -193,6 +205,25 @@ static void packet_test_triangle(const packet* p, const float* vert, uint tri_id
     else if (faces == CLVIS_CULL_FRONT) hit &= r.det < 0.0f;
     lanes_u bits = as_uint16(t), id = (lanes_u)(tri_id);
     lanes_i nearer = hit & ((bits < *best_t) | ((bits == *best_t) & (id < *best_id)));
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+    if (!or_lanes(nearer)) return; /* no lane's K-th key is beaten: no list changes */
+    uint tb[CLVIS_PACKET], kt[CLVIS_PACKET], kid[CLVIS_PACKET];
+    int take[CLVIS_PACKET];
+    vstore16(bits, 0, tb);
+    vstore16(nearer, 0, take);
+    vstore16(*best_t, 0, kt);
+    vstore16(*best_id, 0, kid);
+    for (int l = 0; l < CLVIS_PACKET; ++l) {
+        if (!take[l]) continue;
+        clvis_layers_insert(lists + l, CLVIS_PACKET, ((ulong)tb[l] << 32) | (ulong)tri_id);
+        ulong last = lists[(CLVIS_LAYERS - 1) * CLVIS_PACKET + l];
+        kt[l] = (uint)(last >> 32);
+        kid[l] = (uint)last;
+    }
+    *best_t = vload16(0, kt);
+    *best_id = vload16(0, kid);
+    return;
+#endif
     *best_t = select(*best_t, bits, nearer);
     *best_id = select(*best_id, id, nearer);
 }
@@ -203,12 +234,12 @@ static void packet_test_triangle(const packet* p, const float* vert, uint tri_id
    would inline it at each, a much larger kernel. */
 static CLVIS_NOINLINE void packet_test_leaf(const packet* p, __global const clvis_bvh_tri* tris, uint first, uint count,
                              __global const clvis_instance* xi, float near_d, float far_d, int faces, lanes_u* best_t,
-                             lanes_u* best_id, lanes_f* cull)
+                             lanes_u* best_id, lanes_f* cull CLVIS_PACKET_LISTS_PARAM)
 {
     for (uint k = first; k < first + count; ++k) {
         float v[9];
         uint id = clvis_instance_triangle(tris + k, xi, v);
-        packet_test_triangle(p, v, id, near_d, far_d, faces, best_t, best_id);
+        packet_test_triangle(p, v, id, near_d, far_d, faces, best_t, best_id CLVIS_PACKET_LISTS_ARG);
     }
     *cull = fmin((lanes_f)(far_d), as_float16(*best_t)) * CLVIS_IZE_SCALE;
 }

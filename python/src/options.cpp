@@ -64,6 +64,8 @@ const std::vector<Keyword>& keywords()
         int_keyword("samples", [](RenderOptions& o) -> int& { return o.samples; }),
         enum_keyword("raster_mapping", [](RenderOptions& o) -> RasterMapping& { return o.raster_mapping; }),
         enum_keyword("ray_mapping", [](RenderOptions& o) -> RayMapping& { return o.ray_mapping; }),
+        // Checked by the Renderer: 1 to 8 depth layers (render() then gives (H, W, layers) arrays).
+        int_keyword("layers", [](RenderOptions& o) -> int& { return o.layers; }),
     };
     return table;
 }

@@ -23,7 +23,9 @@ const HostVisibility& host_of(const PyVisibility& vis, HostVisibility& scratch)
     scratch.width = vis.host->width;
     scratch.height = vis.host->height;
     scratch.samples = vis.host->samples;
-    const std::size_t n = std::size_t(scratch.width) * std::size_t(scratch.height) * std::size_t(scratch.samples);
+    scratch.layers = vis.host->layers;
+    const std::size_t n = std::size_t(scratch.width) * std::size_t(scratch.height) * std::size_t(scratch.samples) *
+                          std::size_t(scratch.layers);
     const auto* ids = nb::cast<HostArray<std::uint32_t>>(vis.ids_out, false).data();
     scratch.ids.assign(ids, ids + n);
     scratch.depth.clear();
@@ -157,12 +159,15 @@ nb::object render(PyRenderer& r, const Camera& camera, int width, int height, co
     if (!region.is_none()) vis.region = region_of(region);
     const int w = vis.region ? vis.region->width : width, h = vis.region ? vis.region->height : height;
     const int samples = r.renderer.options().samples; // fixed at construction: no lock needed
+    const int layers = r.renderer.options().layers;   // depth layers: (H, W, layers) arrays (samples 1)
     ReadTarget target;
-    if (!out.is_none() || !take_spare(r, vis, w, h, target)) target = read_target(vis, out, w, h, samples);
+    if (!out.is_none() || !take_spare(r, vis, w, h, target))
+        target = read_target(vis, out, w, h, layers > 1 ? layers : samples);
     unlocked(r.lock, [&] {
         timed(vis, [&] {
             if (vis.region) {
-                vis.device = VisibilityBuffer(r.renderer.device(), w, h);
+                vis.device = layers > 1 ? VisibilityBuffer(r.renderer.device(), w, h, 1, layers)
+                                        : VisibilityBuffer(r.renderer.device(), w, h);
                 r.renderer.render(camera, width, height, *vis.region, *vis.path, vis.device);
             } else {
                 vis.device = r.renderer.render(camera, width, height, *vis.path);
@@ -175,6 +180,7 @@ nb::object render(PyRenderer& r, const Camera& camera, int width, int height, co
     vis.host->width = w;
     vis.host->height = h;
     vis.host->samples = samples;
+    vis.host->layers = layers;
     return result;
 }
 
@@ -245,6 +251,9 @@ void bind_visibility(nb::module_& m)
         .def_prop_ro("width", [](const PyVisibility& v) { return v.host->width; })
         .def_prop_ro("height", [](const PyVisibility& v) { return v.host->height; })
         .def_prop_ro("samples", [](const PyVisibility& v) { return v.host->samples; }, "Samples per pixel.")
+        .def_prop_ro("layers", [](const PyVisibility& v) { return v.host->layers; },
+                     "Depth layers per pixel (the Renderer's layers=): with more than 1, ids and depth are\n"
+                     "(H, W, layers), each pixel's nearest triangles in order.")
         .def_prop_ro("ids", [](const PyVisibility& v) {
             if (v.ids_out.is_valid()) return v.ids_out;
             const HostVisibility& h = *v.host;
