@@ -2,7 +2,9 @@
    the same watertight test as ray_trace.cl but no BVH: the reference the BVH path must equal,
    and the brute path of host/ray/ray_pipeline.cpp for small scenes. Built with CLVIS_RASTER_RULE
    (RenderOptions::coverage), each triangle covers the pixel and gives it the depth the raster path
-   would (shared/raster_rule.h) instead. */
+   would (shared/raster_rule.h) instead. The triangles come from shared/brute_scene.h: the
+   expansion's arrays, or with CLVIS_SCENE_ITEMS the meshes once and a record per item. */
+#include "shared/brute_scene.h"
 #include "shared/camera.h"
 #include "shared/layers.h"
 #ifdef CLVIS_RASTER_RULE
@@ -12,14 +14,9 @@
 #include "shared/region.h"
 #include "shared/visibility.h"
 
-static clvis_vec3 load_vertex(__global const float* positions, uint v)
-{
-    clvis_vec3 p = {positions[3 * (size_t)v], positions[3 * (size_t)v + 1], positions[3 * (size_t)v + 2]};
-    return p;
-}
-
 __kernel void ray_brute(clvis_camera_gpu cam, __global const float* positions, __global const uint* indices,
-                        uint triangle_count, int cull, __global ulong* keys, clvis_region region)
+                        uint triangle_count, int cull, __global ulong* keys, clvis_region region,
+                        __global const clvis_item_mesh* meshes, __global const clvis_item* items, uint item_count)
 {
     int lx = (int)get_global_id(0), ly = (int)get_global_id(1); /* in the region (shared/region.h) */
     if (lx >= region.width || ly >= region.height) return;
@@ -34,12 +31,13 @@ __kernel void ray_brute(clvis_camera_gpu cam, __global const float* positions, _
 #define BRUTE_KEEP(key) (best = (key) < best ? (key) : best)
 #define BRUTE_KEYS (&best)
 #endif
+    clvis_brute_scene scene = clvis_brute_start(positions, indices, meshes, items, item_count);
+    clvis_vec3 a, b, c;
 #ifdef CLVIS_RASTER_RULE
     clvis_pixel_block blk = {px, py, 1, 1, 1};
     for (uint id = 0; id < triangle_count; ++id) {
-        size_t i = 3 * (size_t)id;
-        clvis_raster_rule_keys(cam, cull, load_vertex(positions, indices[i]), load_vertex(positions, indices[i + 1]),
-                               load_vertex(positions, indices[i + 2]), id, blk, BRUTE_KEYS);
+        clvis_brute_triangle(&scene, id, &a, &b, &c);
+        clvis_raster_rule_keys(cam, cull, a, b, c, id, blk, BRUTE_KEYS);
     }
 #else
     clvis_vec3 origin, dir;
@@ -47,10 +45,9 @@ __kernel void ray_brute(clvis_camera_gpu cam, __global const float* positions, _
     clvis_primary_ray(cam, (float)px + f.x, (float)py + f.y, &origin, &dir);
     clvis_ray_shear ray = clvis_make_shear(origin, dir);
     for (uint id = 0; id < triangle_count; ++id) {
-        size_t i = 3 * (size_t)id;
         float t;
-        int hit = clvis_intersect_triangle(ray, load_vertex(positions, indices[i]), load_vertex(positions, indices[i + 1]),
-                                           load_vertex(positions, indices[i + 2]), cam.near_d, cam.far_d, cull, &t);
+        clvis_brute_triangle(&scene, id, &a, &b, &c);
+        int hit = clvis_intersect_triangle(ray, a, b, c, cam.near_d, cam.far_d, cull, &t);
         ulong key = clvis_make_key(t, id);
 #if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
         if (hit) BRUTE_KEEP(key);

@@ -2,7 +2,8 @@
    "Ray queries", "Depth layers"), a run of rays per work-item (CLVIS_QUERY_LANES of them walked interleaved), through
    the 4-wide BVH that ray_trace.cl reads (shared/bvh.h);
    ray_query_brute tests every triangle in id order instead, the reference the BVH walk must
-   equal. Rays and results live in buffers of either layout (shared/ray_query.h). Launched by
+   equal (shared/brute_scene.h: the expansion's arrays, or with CLVIS_SCENE_ITEMS the meshes once
+   and a record per item). Rays and results live in buffers of either layout (shared/ray_query.h). Launched by
    host/query/ray_query.cpp, built once per query kind (CLVIS_QUERY), stack size (CLVIS_RAY_STACK) and
    lanes, on PoCL's CPU device with CLVIS_PREFETCH. The walk is the ray kernels' one
    (shared/bvh_walk.h). With CLVIS_INSTANCES (a scene with instances) it starts in the top level
@@ -11,6 +12,7 @@
    equals the expansion's; without it the walk is the flat tree's. The walk's order never changes
    an answer (ties go to the lower id whatever the order). No packet assumption: incoherent rays
    (ambient occlusion, shadows, random) walk on their own. */
+#include "shared/brute_scene.h"
 #include "shared/bvh.h"
 #include "shared/instance.h"
 #include "shared/ray.h"
@@ -406,13 +408,8 @@ __kernel void ray_query(__global const clvis_bvh4_node* nodes, uint node_count, 
     }
 }
 
-static clvis_vec3 load_vertex(__global const float* positions, uint v)
-{
-    clvis_vec3 p = {positions[3 * (size_t)v], positions[3 * (size_t)v + 1], positions[3 * (size_t)v + 2]};
-    return p;
-}
-
 __kernel void ray_query_brute(__global const float* positions, __global const uint* indices, uint triangle_count,
+                              __global const clvis_item_mesh* meshes, __global const clvis_item* items, uint item_count,
                               __global const float* rays, int ray_layout, ulong ray_stride, ulong ray_offset,
                               uint count, __global out_t* out, int out_layout, ulong out_stride, ulong out_offset,
                               __global uint* invalid
@@ -435,11 +432,11 @@ __kernel void ray_query_brute(__global const float* positions, __global const ui
     } else {
         clvis_vec3 o = {r.ox, r.oy, r.oz}, d = {r.dx, r.dy, r.dz};
         clvis_ray_shear s = clvis_make_shear(o, d);
+        clvis_brute_scene scene = clvis_brute_start(positions, indices, meshes, items, item_count);
         for (uint id = 0; id < triangle_count; ++id) {
-            size_t j = 3 * (size_t)id;
-            if (test_triangle(s, load_vertex(positions, indices[j]), load_vertex(positions, indices[j + 1]),
-                              load_vertex(positions, indices[j + 2]), id, r.tmin, r.tmax, &a))
-                break;
+            clvis_vec3 v0, v1, v2;
+            clvis_brute_triangle(&scene, id, &v0, &v1, &v2);
+            if (test_triangle(s, v0, v1, v2, id, r.tmin, r.tmax, &a)) break;
         }
     }
     store_answer(out, out_layout, out_stride, out_offset + i, &a, counts);

@@ -92,7 +92,8 @@ cl::Kernel& RayQuery::Impl::kernel(RayQueryKind kind)
 {
     int entries = options.brute ? 1 : r.ray->stack_entries();
     int stack = (entries / stack_step + 1) * stack_step;
-    bool two_level = !options.brute && r.ray->two_level();
+    // brute force on a scene with instances: its items (CLVIS_SCENE_ITEMS), never the expansion
+    bool two_level = options.brute ? r.instanced : r.ray->two_level();
     Built& b = built_for(kind);
     if (b.stack != stack || b.two_level != two_level) {
         std::string defs = "-DCLVIS_QUERY=" + std::to_string(int(kind)) + " -DCLVIS_RAY_STACK=" + std::to_string(stack);
@@ -101,7 +102,7 @@ cl::Kernel& RayQuery::Impl::kernel(RayQueryKind kind)
             if (all.counts) defs += " -DCLVIS_ALL_COUNTS=1";
         }
         if (!options.brute && r.dev().cpu_hints()) defs += " -DCLVIS_PREFETCH=1";
-        if (two_level) defs += " -DCLVIS_INSTANCES=1";
+        if (two_level) defs += options.brute ? " -DCLVIS_SCENE_ITEMS=1" : " -DCLVIS_INSTANCES=1";
         b.lanes = options.brute ? 1 : std::max(1, options.lanes);
         b.per_item = b.lanes > 1 ? std::size_t(items_per_lane * b.lanes) : 1;
         if (!options.brute) defs += " -DCLVIS_QUERY_LANES=" + std::to_string(b.lanes);
@@ -175,10 +176,21 @@ void RayQuery::Impl::batch(RayQueryKind kind, const Source& src, const Sink& dst
     std::size_t group = built_now.group;
     int a = 0;
     std::size_t per_item = 1;
-    if (options.brute) {
+    if (options.brute && built_now.two_level) {
+        const InstancedScene& items = r.item_buffers();
+        k.setArg(a++, items.positions);
+        k.setArg(a++, items.indices);
+        k.setArg(a++, cl_uint(items.triangle_count));
+        k.setArg(a++, items.meshes);
+        k.setArg(a++, items.items);
+        k.setArg(a++, cl_uint(items.host_items.size()));
+    } else if (options.brute) {
         k.setArg(a++, r.scene_buffers().positions);
         k.setArg(a++, r.scene_buffers().indices);
         k.setArg(a++, cl_uint(r.scene_buffers().triangle_count));
+        k.setArg(a++, sizeof(cl_mem), nullptr); // no items (shared/brute_scene.h)
+        k.setArg(a++, sizeof(cl_mem), nullptr);
+        k.setArg(a++, cl_uint(0));
     } else {
         per_item = built_now.per_item;
         k.setArg(a++, r.ray->nodes());

@@ -17,7 +17,7 @@ struct RayQuery::Impl {
         cl::Kernel kernel;
         std::size_t group = 1; ///< work-items per work-group
         int stack = -1;        ///< CLVIS_RAY_STACK it was built with
-        bool two_level = false; ///< built with CLVIS_INSTANCES
+        bool two_level = false; ///< a scene with instances: built with CLVIS_INSTANCES (brute: CLVIS_SCENE_ITEMS)
         int lanes = 1;          ///< CLVIS_QUERY_LANES: rays a work-item walks interleaved
         std::size_t per_item = 1; ///< rays a work-item answers
     };

@@ -6,6 +6,7 @@
 // raster path's predicate).
 #include "ray/ray_pipeline.hpp"
 
+#include "frame/instanced_scene.hpp"
 #include "ray/bvh_build.hpp"
 #include "ray/bvh_instances.hpp"
 #include "runtime/cl_runtime.hpp"
@@ -76,6 +77,8 @@ struct RayPipeline::Impl {
     bool single; ///< RayMapping::Single: ray_trace_single.cl, a work-item per pixel (Auto: packets until set_mapping)
     cl::Kernel trace, trace_views, brute;
     cl::NDRange trace_group, views_group, brute_group; ///< work-items per work-group
+    cl::Kernel brute_items;         ///< ray_brute.cl with CLVIS_SCENE_ITEMS, made on first use
+    cl::NDRange brute_items_group;
     int trace_stack = 0;                  ///< CLVIS_RAY_STACK of the built trace kernel
     /// The binary tree, kept for refits (flat: a scene without instances). Between builds and
     /// refits it holds only what a refit reads: each node's first and count (its boxes, which a
@@ -409,6 +412,9 @@ void RayPipeline::Impl::render_sample(const DeviceScene& scene, Frame& frame, bo
         k.setArg(4, cl_int(cull_mode(m.options.cull)));
         k.setArg(5, frame.keys);
         k.setArg(6, sizeof frame.region, &frame.region);
+        k.setArg(7, sizeof(cl_mem), nullptr); // no items: the expansion's arrays (shared/brute_scene.h)
+        k.setArg(8, sizeof(cl_mem), nullptr);
+        k.setArg(9, cl_uint(0));
         cl::NDRange global(round_up(std::size_t(frame.width), g[0]), round_up(std::size_t(frame.height), g[1]));
         frame.queue.enqueueNDRangeKernel(k, cl::NullRange, global, g, nullptr, &done);
     } else {
@@ -424,6 +430,39 @@ void RayPipeline::Impl::render_sample(const DeviceScene& scene, Frame& frame, bo
                                          &done);
     }
     frame.stages->add("trace", done);
+}
+
+void RayPipeline::render_brute(const InstancedScene& scene, Frame& frame)
+{
+    Impl& m = *impl_;
+    if (!m.brute_items()) {
+        std::string defines =
+            join_defines(join_defines(coverage_define(m.options.coverage), layers_define(m.options.layers)),
+                         "-DCLVIS_SCENE_ITEMS=1");
+        m.brute_items = cl::Kernel(m.device.program("ray_brute", defines), "ray_brute");
+        m.brute_items_group = m.pick_group(m.brute_items);
+    }
+    cl::Kernel& k = m.brute_items;
+    const cl::NDRange& g = m.brute_items_group;
+    k.setArg(1, scene.positions);
+    k.setArg(2, scene.indices);
+    k.setArg(3, cl_uint(scene.triangle_count));
+    k.setArg(4, cl_int(cull_mode(m.options.cull)));
+    k.setArg(5, frame.keys);
+    k.setArg(6, sizeof frame.region, &frame.region);
+    k.setArg(7, scene.meshes);
+    k.setArg(8, scene.items);
+    k.setArg(9, cl_uint(scene.host_items.size()));
+    cl::NDRange global(round_up(std::size_t(frame.width), g[0]), round_up(std::size_t(frame.height), g[1]));
+    // One launch per sample, as render's.
+    for (int sample = 0; sample < 1 << frame.gpu_camera.sample_log2; ++sample) {
+        frame.gpu_camera.sample = sample;
+        k.setArg(0, sizeof frame.gpu_camera, &frame.gpu_camera);
+        cl::Event done;
+        frame.queue.enqueueNDRangeKernel(k, cl::NullRange, global, g, nullptr, &done);
+        frame.stages->add("trace", done);
+    }
+    frame.gpu_camera.sample = 0;
 }
 
 void RayPipeline::render_views(ViewsFrame& frame)

@@ -34,6 +34,9 @@ public:
     /// Enqueues the trace of one ray per pixel centre (through the BVH, or against every
     /// triangle when `brute`) writing every key of frame.keys.
     void render(const DeviceScene& scene, Frame& frame, bool brute);
+    /// Enqueues the brute path for a scene with instances from its items (ray_brute.cl built with
+    /// CLVIS_SCENE_ITEMS: the meshes once, a record per item, the expansion's keys).
+    void render_brute(const InstancedScene& scene, Frame& frame);
     /// Enqueues one trace through the BVH for every view of `frame` (ray_trace_views).
     void render_views(ViewsFrame& frame);
 

@@ -101,7 +101,7 @@ void enqueue_views(Renderer::Impl& m, const std::vector<clvis_camera_gpu>& gpu, 
         frame.stages = &m.stages;
         if (path == Path::Raster && m.instanced) m.raster->render(m.item_buffers(), frame, m.raster_chunk);
         else if (path == Path::Raster) m.raster->render(m.scene_buffers(), frame);
-        else m.ray->render(m.scene_buffers(), frame, true);
+        else m.render_brute(frame);
     }
 }
 

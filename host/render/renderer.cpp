@@ -285,7 +285,8 @@ void Renderer::Impl::render(const Camera& camera, int width, int height, const R
         auto t0 = std::chrono::steady_clock::now();
         if (path == Path::Raster && instanced) raster->render(item_buffers(), frame, raster_chunk);
         else if (path == Path::Raster) raster->render(scene_buffers(), frame);
-        else ray->render(path == Path::Brute ? scene_buffers() : gpu, frame, path == Path::Brute);
+        else if (path == Path::Brute) render_brute(frame);
+        else ray->render(gpu, frame, false);
         queue.finish();
         auto t1 = std::chrono::steady_clock::now();
         last.frame_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
@@ -296,6 +297,12 @@ void Renderer::Impl::render(const Camera& camera, int width, int height, const R
         stages.collect();
         throw_cl_error(e, std::string("rendering with the ") + to_string(path) + " path");
     }
+}
+
+void Renderer::Impl::render_brute(Frame& frame)
+{
+    if (instanced) ray->render_brute(item_buffers(), frame);
+    else ray->render(scene_buffers(), frame, true);
 }
 
 void Renderer::update(const Scene& scene)

@@ -73,6 +73,9 @@ struct Renderer::Impl {
     const RasterMappingChoice& raster_mapping();
     /// The raster path, made on first use with the resolved mapping.
     detail::RasterPipeline& raster_pipeline();
+    /// Enqueues one frame of Path::Brute (the ray pipeline made): a scene with instances from its
+    /// items (never the expansion), a plain one from its resident arrays.
+    void render_brute(detail::Frame& frame);
     /// Makes what a frame of `path` needs (its pipeline, mapping and BVH) before it is timed.
     void prepare(Path path);
     /// One frame of `path`: `region` of a width x height image into `target` (the region's

@@ -71,9 +71,10 @@ public:
     /// before it) and returns its item index in meshes(). Error(InvalidArgument) for a prototype
     /// that does not exist or a transform add_mesh would refuse; Error(Limit) past max_triangles.
     /// The prototype is stored once on the host, and on the device by the ray and raster paths;
-    /// shading, resolve and AO and shadow rays upload only the triangles a buffer shows, and
-    /// bounds(), triangle() and the referees read the items; Path::Brute and ray queries with
-    /// brute set still upload the expansion (world_positions).
+    /// shading, resolve and AO and shadow rays upload only the triangles a buffer shows,
+    /// bounds(), triangle() and the referees read the items, and so do Path::Brute and ray
+    /// queries with brute set (the meshes once and a record per item on the device): nothing
+    /// builds the expansion (world_positions).
     std::size_t add_instance(std::size_t prototype, const Mat4& transform);
 
     /// Replaces the positions of mesh `mesh` (same vertex count): animation. Renderers that
@@ -97,7 +98,7 @@ public:
     /// World-space positions of every vertex, meshes concatenated (float32, transforms applied
     /// by kernels/shared/instance.h). Computed on demand and cached until the next
     /// change: the whole expansion, so nothing in the library calls it for a scene with
-    /// instances but the brute-force references.
+    /// instances (the bench's Embree and llvmpipe references do).
     const std::vector<float>& world_positions() const;
     /// Indices into world_positions(), 3 per triangle, in id order.
     const std::vector<std::uint32_t>& world_indices() const;
