@@ -93,13 +93,13 @@ template <class Fn> void Referee::Impl::for_candidates(int x, int y, Fn fn, int 
 {
     std::size_t tile = std::size_t(y >> tile_log2) * tiles_x + (x >> tile_log2);
     double cx = sample_position(x, log2n, k, 0), cy = sample_position(y, log2n, k, 1);
-    auto visit = [&](std::uint32_t id) {
-        const Triangle& t = tris[id];
+    auto visit = [&](std::uint32_t i) {
+        const Triangle& t = kept[i];
         if (cx < t.lo_x || cx > t.hi_x || cy < t.lo_y || cy > t.hi_y) return;
-        fn(id, classify(t, cx, cy));
+        fn(kept_ids[i], classify(t, cx, cy));
     };
     for (std::uint32_t k = tile_start[tile]; k < tile_start[tile + 1]; ++k) visit(tile_tris[k]);
-    for (std::uint32_t id : everywhere) visit(id);
+    for (std::uint32_t i : everywhere) visit(i);
 }
 
 Referee::Impl::Nearest Referee::Impl::nearest(int x, int y, int log2n, int k) const
@@ -181,9 +181,9 @@ void referee_check_pixel(const Referee::Impl& impl, int x, int y)
 TriangleAtSample Referee::classify(std::uint32_t id, int x, int y) const
 {
     referee_check_pixel(checked("Referee::classify"), x, y);
-    if (id >= impl_->tris.size())
+    if (id >= impl_->triangle_count)
         throw Error(Error::Kind::InvalidArgument, "referee: triangle id " + std::to_string(id) + " not in the scene (" +
-                                                      std::to_string(impl_->tris.size()) + " triangles)");
+                                                      std::to_string(impl_->triangle_count) + " triangles)");
     return impl_->classify_id(id, x, y);
 }
 

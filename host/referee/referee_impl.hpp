@@ -1,14 +1,18 @@
 // The referee's internals, shared by its set-up (referee_setup.cpp: triangles in double
-// precision, binned into tiles), its classification (referee.cpp: per triangle and sample) and its
-// judgement (referee_judge.cpp: ids and depths, per sample, per pixel, per buffer).
+// precision, binned into tiles; referee_items.cpp: the scene's items copied, and the triangles
+// that can be a candidate at some sample set up, any other set up again on demand), its
+// classification (referee.cpp: per triangle and sample) and its judgement (referee_judge.cpp: ids
+// and depths, per sample, per pixel, per buffer).
 #pragma once
 
 #include <clvis/referee.hpp>
 
 #include "shared/samples.h"
 
+#include <array>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace clvis::detail {
@@ -50,6 +54,23 @@ struct Triangle {
     double lo_x = inf, lo_y = inf, hi_x = -inf, hi_y = -inf; ///< EPS-expanded raster bounds
 };
 
+/// Geometry the scene holds once: a prototype, or a plain mesh (copied: the referee keeps no
+/// reference to the scene).
+struct RefereeSource {
+    std::vector<float> positions;
+    std::vector<std::uint32_t> indices;
+    std::string name;
+};
+
+/// One item of the scene: where its geometry is and how it is placed (instance_transform.hpp).
+struct RefereeItem {
+    std::uint32_t first = 0;     ///< id of its first triangle
+    std::uint32_t triangles = 0; ///< its triangle count
+    std::uint32_t source = 0;    ///< index into Impl::sources
+    bool identity = true;        ///< an identity transform keeps the positions' bits
+    std::array<float, 12> m{};   ///< else instance_matrix of its transform
+};
+
 } // namespace clvis::detail
 
 namespace clvis {
@@ -61,11 +82,21 @@ struct Referee::Impl {
     Cull cull = Cull::None;
     bool perspective = true;
     double near_lo = 0, near_in = 0, far_in = 0, far_hi = 0; ///< depth range with tolerances
-    std::vector<detail::Triangle> tris;
+    CameraFrame frame;
+    /// `camera` with its raster map fixed as intrinsics: the same numbers, without the canvas'
+    /// tangent computed again at every projection.
+    Camera raster_camera;
+    std::size_t triangle_count = 0; ///< the scene's
+    std::vector<detail::RefereeSource> sources;
+    std::vector<detail::RefereeItem> items;
+    /// Set up once: the triangles whose visible part's bounds hold a sample position of the image
+    /// (any sample count), the only ones for_candidates can meet; the rest are set up on demand.
+    std::vector<detail::Triangle> kept;
+    std::vector<std::uint32_t> kept_ids; ///< their ids, ascending
     int tiles_x = 0, tiles_y = 0;
     std::vector<std::uint32_t> tile_start; ///< tiles_x * tiles_y + 1 offsets into tile_tris
-    std::vector<std::uint32_t> tile_tris;  ///< triangle ids per tile, ascending
-    std::vector<std::uint32_t> everywhere; ///< ids of triangles too large to bin, ascending
+    std::vector<std::uint32_t> tile_tris;  ///< indices into kept per tile, ascending
+    std::vector<std::uint32_t> everywhere; ///< indices into kept of triangles too large to bin, ascending
 
     /// What the nearest robustly covering triangle is at a sample.
     struct Nearest {
@@ -74,14 +105,38 @@ struct Referee::Impl {
     };
 
     void setup(const Scene& scene);
+    /// referee_items.cpp: copies the scene's items and sources, and throws as world_positions()
+    /// would for the first item with a transformed vertex that overflows float32.
+    void copy_items(const Scene& scene);
+    /// referee_items.cpp: sets up every triangle (in parallel), keeping those that may_be_candidate.
+    void set_up_candidates();
+    /// The float32 world vertices of triangle `local` of item `it` (in double) and their camera
+    /// coordinates (Camera::to_camera), as the set-up takes them.
+    void vertices(const detail::RefereeItem& it, std::size_t local, Vec3 world[3], Vec3 cam[3]) const;
+    /// Triangle `id` (< triangle_count) set up: the kept one, or `scratch` set up now, the same bits.
+    const detail::Triangle& triangle(std::uint32_t id, detail::Triangle& scratch) const;
     void setup_triangle(detail::Triangle& t, const Vec3 world[3], const Vec3 cam[3]) const;
+    /// The part of setup_triangle that depends on the plane: edges, depth, flat and culled.
+    void setup_plane(detail::Triangle& t, const Vec3 world[3], const Vec3 cam[3]) const;
+    /// The part of setup_triangle that clips and projects: n, px, py, pd and the bounds.
+    void setup_visible_part(detail::Triangle& t, const Vec3 cam[3]) const;
+    /// t's EPS-expanded bounds from its n projected vertices (t's bounds as default-constructed).
+    void set_bounds(detail::Triangle& t) const;
+    /// Whether -cam.z passes the clip of setup_visible_part against near and far.
+    bool within_near(const Vec3& cam) const { return -cam.z - near_lo >= 0; }
+    bool within_far(const Vec3& cam) const { return far_hi + cam.z >= 0; }
+    /// Whether t's bounds (setup_visible_part) hold a sample position of the image, of any sample
+    /// count: false means no sample of any buffer ever meets it in for_candidates.
+    bool may_be_candidate(const detail::Triangle& t) const;
     void bin();
     TriangleAtSample classify(const detail::Triangle& t, double x, double y) const;
     // Every judgement below is at sample k of 2^log2n of pixel (x, y) (detail::sample_position):
     // its centre by default.
     TriangleAtSample classify_id(std::uint32_t id, int x, int y, int log2n = 0, int k = 0) const
     {
-        return classify(tris[id], detail::sample_position(x, log2n, k, 0), detail::sample_position(y, log2n, k, 1));
+        detail::Triangle scratch;
+        return classify(triangle(id, scratch), detail::sample_position(x, log2n, k, 0),
+                        detail::sample_position(y, log2n, k, 1));
     }
     template <class Fn> void for_candidates(int x, int y, Fn fn, int log2n = 0, int k = 0) const;
     Nearest nearest(int x, int y, int log2n = 0, int k = 0) const;

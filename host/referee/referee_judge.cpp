@@ -133,14 +133,16 @@ PixelVerdict Referee::Impl::judge(int x, int y, const SampleAnswer& answer, cons
         if (answer.has_depth && !(answer.depth == float(inf))) v.depth_error = DepthError::Wrong;
         return v;
     }
-    if (answer.id >= tris.size()) {
+    if (answer.id >= triangle_count) {
         v.error = AnswerError::InvalidId;
         v.depth_expected = v.depth_lo = v.depth_hi = std::numeric_limits<double>::quiet_NaN();
         if (answer.has_depth) v.depth_error = DepthError::NoTriangle;
         return v;
     }
+    Triangle scratch;
     if (answer.has_depth)
-        judge_depth(tris[answer.id], sample_position(x, log2n, k, 0), sample_position(y, log2n, k, 1), depth_px, v);
+        judge_depth(triangle(answer.id, scratch), sample_position(x, log2n, k, 0), sample_position(y, log2n, k, 1),
+                    depth_px, v);
     TriangleAtSample s = classify_id(answer.id, x, y, log2n, k);
     v.depth = s.depth;
     if (s.cls == SampleClass::Out) {

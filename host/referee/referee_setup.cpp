@@ -9,6 +9,7 @@
 #include "shared/raster.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace clvis {
@@ -80,13 +81,13 @@ Vec3 normal_of(const Vec3 p[3], Vec3* terms)
 Linear Referee::Impl::to_raster(double kx, double ky, double k0) const
 {
     // sx = (x - cx) / fx, sy = (cy - y) / fy.
-    Intrinsics k = camera.raster_map(width, height);
+    Intrinsics k = raster_camera.raster_map(width, height);
     return {kx / k.fx, -ky / k.fy, -kx * k.cx / k.fx + ky * k.cy / k.fy + k0};
 }
 
 void Referee::Impl::project(Vec3 p, double* x, double* y) const
 {
-    Vec3 r = camera.camera_to_raster(p, width, height);
+    Vec3 r = raster_camera.camera_to_raster(p, width, height);
     *x = r.x;
     *y = r.y;
 }
@@ -98,42 +99,24 @@ void Referee::Impl::setup(const Scene& scene)
     near_in = camera.near * (1 + rel);
     far_in = camera.far * (1 - rel);
     far_hi = camera.far * (1 + rel);
-
+    frame = camera.frame();
+    raster_camera = camera;
+    raster_camera.intrinsics = camera.raster_map(width, height);
     // Item by item, through each item's transform as world_positions() computes it: the expansion's
-    // float32 vertices without the expansion (a scene of many instances need not fit expanded).
-    CameraFrame fr = camera.frame();
-    tris.resize(scene.triangle_count());
-    std::vector<float> pos;
-    std::vector<Vec3> cam;
-    for (std::size_t item = 0; item < scene.meshes().size(); ++item) {
-        const MeshData& data = scene.data_of(item);
-        pos.resize(data.positions.size());
-        detail::transform_positions(scene.meshes()[item].transform, data.positions.data(), data.vertex_count(),
-                                    pos.data());
-        cam.resize(data.vertex_count());
-        for (std::size_t v = 0; v < cam.size(); ++v) {
-            if (!std::isfinite(pos[3 * v]) || !std::isfinite(pos[3 * v + 1]) || !std::isfinite(pos[3 * v + 2]))
-                throw Error(Error::Kind::InvalidArgument,
-                            "mesh '" + data.name + "': a transformed vertex overflows float32");
-            Vec3 d = Vec3{pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]} - camera.eye;
-            cam[v] = {dot(d, fr.r), dot(d, fr.u), -dot(d, fr.f)}; // Camera::to_camera
-        }
-        std::size_t first = scene.meshes()[item].first_triangle;
-        const std::vector<std::uint32_t>& idx = data.indices;
-        for (std::size_t i = 0; i < data.triangle_count(); ++i) {
-            Vec3 w[3], c[3];
-            for (int k = 0; k < 3; ++k) {
-                std::uint32_t v = idx[3 * i + std::size_t(k)];
-                w[k] = {pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]};
-                c[k] = cam[v];
-            }
-            setup_triangle(tris[first + i], w, c);
-        }
-    }
+    // float32 vertices without the expansion (a scene of many instances need not fit expanded),
+    // and only the triangles a sample can meet kept set up.
+    copy_items(scene);
+    set_up_candidates();
     bin();
 }
 
 void Referee::Impl::setup_triangle(Triangle& t, const Vec3 world[3], const Vec3 p[3]) const
+{
+    setup_plane(t, world, p);
+    setup_visible_part(t, p);
+}
+
+void Referee::Impl::setup_plane(Triangle& t, const Vec3 world[3], const Vec3 p[3]) const
 {
     // The normal and, for the edge-on test, the size of the products it sums (see normal_of).
     Vec3 terms;
@@ -188,7 +171,10 @@ void Referee::Impl::setup_triangle(Triangle& t, const Vec3 world[3], const Vec3 
         }
         t.edge[k] = e;
     }
+}
 
+void Referee::Impl::setup_visible_part(Triangle& t, const Vec3 p[3]) const
+{
     // The visible part: the triangle clipped to the depth range (tolerance included), in
     // camera space, then projected. Nothing is projected through the eye: near > 0.
     Vec3 poly[max_poly + 2], next[max_poly + 2];
@@ -210,12 +196,19 @@ void Referee::Impl::setup_triangle(Triangle& t, const Vec3 world[3], const Vec3 
     for (int k = 0; k < n; ++k) {
         project(poly[k], &t.px[k], &t.py[k]);
         t.pd[k] = -poly[k].z;
+    }
+    set_bounds(t);
+}
+
+void Referee::Impl::set_bounds(Triangle& t) const
+{
+    for (int k = 0; k < t.n; ++k) {
         t.lo_x = std::fmin(t.lo_x, t.px[k]);
         t.hi_x = std::fmax(t.hi_x, t.px[k]);
         t.lo_y = std::fmin(t.lo_y, t.py[k]);
         t.hi_y = std::fmax(t.hi_y, t.py[k]);
     }
-    if (n > 0) {
+    if (t.n > 0) {
         // EPS, plus room for the rounding of the set-up itself.
         double mx = eps + 1e-9 * std::fmax(1.0, std::fmax(std::fabs(t.lo_x), std::fabs(t.hi_x)));
         double my = eps + 1e-9 * std::fmax(1.0, std::fmax(std::fabs(t.lo_y), std::fabs(t.hi_y)));
@@ -224,6 +217,48 @@ void Referee::Impl::setup_triangle(Triangle& t, const Vec3 world[3], const Vec3 
         t.lo_y -= my;
         t.hi_y += my;
     }
+}
+
+namespace {
+
+/// Bit dx + 8 of pairs[dy + 8]: some sample count has a sample at offset (dx, dy) in 1/16 px
+/// (shared/samples.h).
+std::array<std::uint16_t, 16> sample_offset_pairs()
+{
+    std::array<std::uint16_t, 16> pairs{};
+    for (int log2n = 0; log2n <= CLVIS_MAX_SAMPLES_LOG2; ++log2n)
+        for (int k = 0; k < 1 << log2n; ++k)
+            pairs[std::size_t(clvis_sample_offset(log2n, k, 1) + 8)] |=
+                std::uint16_t(1u << (clvis_sample_offset(log2n, k, 0) + 8));
+    return pairs;
+}
+
+/// Bit d + 8 set for each offset d (1/16 px) of a sample position of pixels 0 .. size - 1 inside
+/// [lo, hi]. Sample positions are the multiples g / 16 of 1/16 px, g = 16 i + 8 + d: those
+/// inside are exactly ceil(16 lo) <= g <= floor(16 hi) (16 x is exact in double).
+unsigned offsets_inside(double lo, double hi, int size)
+{
+    if (!(lo <= hi)) return 0; // NaN bounds too, which bin() never bins
+    double g0 = std::fmax(std::ceil(16 * lo), 0.0), g1 = std::fmin(std::floor(16 * hi), 16.0 * size - 1);
+    if (!(g0 <= g1)) return 0;
+    if (g1 - g0 >= 15) return 0xFFFFu;
+    unsigned mask = 0;
+    for (long g = long(g0); g <= long(g1); ++g) mask |= 1u << (g & 15);
+    return mask;
+}
+
+} // namespace
+
+bool Referee::Impl::may_be_candidate(const Triangle& t) const
+{
+    static const std::array<std::uint16_t, 16> pairs = sample_offset_pairs();
+    if (t.n == 0) return false;
+    unsigned xs = offsets_inside(t.lo_x, t.hi_x, width);
+    if (xs == 0) return false;
+    unsigned ys = offsets_inside(t.lo_y, t.hi_y, height);
+    for (int dy = 0; dy < 16; ++dy)
+        if ((ys >> dy & 1u) && (pairs[std::size_t(dy)] & xs)) return true;
+    return false;
 }
 
 void Referee::Impl::bin()
@@ -241,9 +276,11 @@ void Referee::Impl::bin()
     };
     std::size_t tiles = std::size_t(tiles_x) * tiles_y;
     std::vector<std::uint32_t> count(tiles + 1, 0);
+    // Over the kept triangles only: any other has no sample inside its bounds, so for_candidates
+    // would pass it over at every sample.
     auto visit = [&](auto fn) {
-        for (std::size_t i = 0; i < tris.size(); ++i) {
-            const Triangle& t = tris[i];
+        for (std::size_t i = 0; i < kept.size(); ++i) {
+            const Triangle& t = kept[i];
             int x0, x1, y0, y1;
             if (t.n == 0 || !range(t.lo_x, t.hi_x, width, &x0, &x1) || !range(t.lo_y, t.hi_y, height, &y0, &y1))
                 continue;
