@@ -45,4 +45,10 @@ void run_ray_bench(const BenchConfig& config, const Device& device);
 /// writes bench-views.json and bench-views.csv.
 void run_views_bench(const BenchConfig& config, const Device& device);
 
+/// The dataset outputs and depth layers of bench_datasets.cpp on `device`: on spot at 1920x1080,
+/// each path's visibility frame, resolve (uv, barycentrics, object ids), flow to a second view and
+/// 2, 4 and 8 layers, in interleaved rounds, each over its path's visibility frame; prints a table
+/// and writes bench-datasets.json.
+void run_datasets_bench(const BenchConfig& config, const Device& device);
+
 } // namespace clvis::bench

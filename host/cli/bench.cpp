@@ -16,6 +16,7 @@ struct BenchArgs {
     bench::BenchConfig config;
     DeviceOptions device;
     bool rays = false; ///< the ray-query workloads (bench/bench_rays.cpp) instead of the sweep
+    bool datasets = false; ///< the dataset outputs and depth layers (bench/bench_datasets.cpp) instead
 };
 
 } // namespace
@@ -53,9 +54,16 @@ void add_bench_command(CLI::App& app)
         ->check(CLI::Range(1, CLVIS_MAX_IMAGE_SIZE))
         ->needs(views);
     views->excludes(cmd->get_option("--rays"));
+    cmd->add_flag("--datasets", args->datasets,
+                  "the dataset outputs and depth layers instead: on spot at 1920x1080, each path's visibility "
+                  "frame, resolve (uv, barycentrics, object ids), flow to a second view and 2, 4, 8 layers, each "
+                  "over its path's visibility frame")
+        ->excludes(views)
+        ->excludes(cmd->get_option("--rays"));
     cmd->callback([args] {
         if (args->config.views > 0) bench::run_views_bench(args->config, args->device.open());
         else if (args->rays) bench::run_ray_bench(args->config, args->device.open());
+        else if (args->datasets) bench::run_datasets_bench(args->config, args->device.open());
         else bench::run_bench(args->config, [args] { return args->device.open(); });
     });
 }
