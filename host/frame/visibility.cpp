@@ -119,6 +119,26 @@ cl_mem VisibilityBuffer::keys() const
     return keys_.get();
 }
 
+VisibilityBuffer VisibilityBuffer::layer(int k) const
+{
+    if (!keys_) empty_buffer("VisibilityBuffer::layer");
+    if (k < 0 || k >= layers_)
+        throw Error(Error::Kind::InvalidArgument, "VisibilityBuffer::layer: layer " + std::to_string(k) +
+                                                      " of a buffer of " + std::to_string(layers_) + " layer(s)");
+    VisibilityBuffer out(device_, width_, height_, samples_, 1);
+    auto& impl = detail::DeviceAccess::of(device_, "VisibilityBuffer::layer");
+    std::size_t bytes = layer_keys() * 8;
+    try {
+        std::lock_guard<std::mutex> lock(impl.mutex);
+        cl::Buffer from(keys(), true), to(out.keys(), true);
+        impl.queue.enqueueCopyBuffer(from, to, std::size_t(k) * bytes, 0, bytes);
+        impl.queue.finish();
+    } catch (const cl::Error& e) {
+        throw_cl_error(e, "copying a depth layer of a visibility buffer");
+    }
+    return out;
+}
+
 namespace {
 
 /// Runs `fn` on the keys mapped for reading (blocking), then unmaps them. A mapping lets the

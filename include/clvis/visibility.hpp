@@ -49,6 +49,12 @@ public:
     cl_mem keys() const;
     const Device& device() const { return device_; }
 
+    /// Depth layer `k` (0 <= k < layers()) as a one-layer buffer of its own: a device copy of the
+    /// layer's keys, finished before it returns. Everything that reads a one-layer buffer then
+    /// reads that layer: resolve (barycentrics, attributes, object ids), flow, shading, the
+    /// referees. Error(InvalidArgument) for an empty buffer or a layer it does not hold.
+    VisibilityBuffer layer(int k) const;
+
     /// Blocking read of the keys on the device's queue, as the device holds them (layer-major).
     std::vector<std::uint64_t> read_keys() const;
     /// Blocking read, split into ids and depths (the layers of a sample adjacent: HostVisibility).
