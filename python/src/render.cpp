@@ -254,6 +254,26 @@ void bind_visibility(nb::module_& m)
         .def_prop_ro("layers", [](const PyVisibility& v) { return v.host->layers; },
                      "Depth layers per pixel (the Renderer's layers=): with more than 1, ids and depth are\n"
                      "(H, W, layers), each pixel's nearest triangles in order.")
+        .def(
+            "layer",
+            [](const PyVisibility& v, int k) {
+                if (v.device.empty())
+                    throw Error(Error::Kind::InvalidArgument,
+                                "Visibility.layer: this Visibility holds no device buffer (made from arrays, a file "
+                                "or several devices); render with layers= on one Renderer");
+                PyVisibility out;
+                out.device = v.device.layer(k);
+                out.device.read(*out.host);
+                out.camera = v.camera;
+                out.path = v.path;
+                out.region = v.region;
+                return out;
+            },
+            nb::arg("k"),
+            "Depth layer k (0 <= k < layers) as a one-layer Visibility of its own (a device copy):\n"
+            "Renderer.resolve and Renderer.flow read it as they read a plain render.\n\n"
+            "Example:\n    vis = clvis.Renderer(device, scene, layers=4).render(camera, 640, 360)\n"
+            "    back = renderer.resolve(vis.layer(1), ['barycentrics', 'object'])")
         .def_prop_ro("ids", [](const PyVisibility& v) {
             if (v.ids_out.is_valid()) return v.ids_out;
             const HostVisibility& h = *v.host;

@@ -39,3 +39,25 @@ def test_layers_with_samples_are_refused(device, bunny):
         clvis.Renderer(device, bunny, layers=2, samples=4)
     with pytest.raises(clvis.Error, match="layers"):
         clvis.Renderer(device, bunny, layers=9)
+
+
+def test_a_layer_taken_out_resolves_as_a_plain_render(device, bunny):
+    """Visibility.layer(k): that layer's ids and depths as an (H, W) Visibility, which resolve
+    reads: the object of every covered sample is the bunny (item 0), barycentrics in range."""
+    camera = clvis.Camera.framing(bunny.bounds())
+    renderer = clvis.Renderer(device, bunny, layers=3)
+    vis = renderer.render(camera, W, H)
+    for k in range(3):
+        one = vis.layer(k)
+        assert one.layers == 1 and one.ids.shape == (H, W)
+        assert np.array_equal(one.ids, vis.ids[:, :, k])
+        assert np.array_equal(one.depth.view(np.uint32), vis.depth[:, :, k].view(np.uint32))
+        out = renderer.resolve(one, ["barycentrics", "object"])
+        covered = one.ids != clvis.background_id
+        assert covered.sum() > (100 if k < 2 else 0)  # the bunny: a front, a back, a few ears
+        assert (out["object"][covered] == 0).all()
+        assert (out["object"][~covered] == clvis.background_id).all()
+        uv = out["barycentrics"][covered]
+        assert (uv >= -1e-6).all() and (uv.sum(axis=-1) <= 1 + 1e-6).all()
+    with pytest.raises(clvis.Error, match="layer 3 of a buffer of 3"):
+        vis.layer(3)
