@@ -22,6 +22,8 @@ packages=(
   python3-matplotlib python3-numpy python3-venv python3-dev
   # hardening: Oclgrind, clang's sanitizers and libFuzzer, malformed test files
   oclgrind clang libclang-rt-14-dev assimp-testmodels valgrind
+  # peak memory of the tool (/usr/bin/time -v): the instances_memory and memory_per_triangle CTests
+  time
 )
 
 missing=()
