@@ -5,6 +5,7 @@
 // rotated in double; NaN where a mesh lacks the attribute; unknown names and several samples per
 // pixel refused by name.
 #include "catch.hpp"
+#include "test_meshes.hpp"
 
 #include <clvis/clvis.hpp>
 
@@ -37,19 +38,7 @@ void add_attributes(MeshData& m, bool temperature = true)
     if (temperature) m.attributes.push_back(temp);
 }
 
-Mat4 placed(double yaw, Vec3 offset, double scale)
-{
-    Mat4 m;
-    m(0, 0) = scale * std::cos(yaw);
-    m(0, 2) = scale * std::sin(yaw);
-    m(2, 0) = -scale * std::sin(yaw);
-    m(2, 2) = scale * std::cos(yaw);
-    m(1, 1) = scale * (yaw > 1 ? -1 : 1); // one mirrored
-    m(0, 3) = offset.x;
-    m(1, 3) = offset.y;
-    m(2, 3) = offset.z;
-    return m;
-}
+using test::placed;
 
 MeshData spot()
 {

@@ -6,6 +6,7 @@
 #include "render/renderer_probe.hpp"
 #include "scene/scene_probe.hpp"
 #include "test_files.hpp"
+#include "test_meshes.hpp"
 
 #include <clvis/attributes.hpp>
 #include <clvis/clvis.hpp>
@@ -19,19 +20,7 @@ using namespace clvis;
 
 namespace {
 
-Mat4 placed(double yaw, Vec3 offset, double scale)
-{
-    Mat4 m;
-    m(0, 0) = scale * std::cos(yaw);
-    m(0, 2) = scale * std::sin(yaw);
-    m(2, 0) = -scale * std::sin(yaw);
-    m(2, 2) = scale * std::cos(yaw);
-    m(1, 1) = scale * (yaw > 1 ? -1 : 1); // some mirrored
-    m(0, 3) = offset.x;
-    m(1, 3) = offset.y;
-    m(2, 3) = offset.z;
-    return m;
-}
+using test::placed;
 
 /// The spot with vertex normals (its positions, normalised: any non-zero field will do), a plain
 /// quad and 40 instances of the spot: instanced, or written out as meshes.

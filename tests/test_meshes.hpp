@@ -22,6 +22,22 @@ struct Case {
     int width, height;
 };
 
+/// An item transform: `scale` times a turn by `yaw` about y (mirrored in y when yaw > 1), then
+/// `offset`: instances of one prototype at many places, some of them mirrored.
+inline Mat4 placed(double yaw, Vec3 offset, double scale)
+{
+    Mat4 m;
+    m(0, 0) = scale * std::cos(yaw);
+    m(0, 2) = scale * std::sin(yaw);
+    m(2, 0) = -scale * std::sin(yaw);
+    m(2, 2) = scale * std::cos(yaw);
+    m(1, 1) = scale * (yaw > 1 ? -1 : 1);
+    m(0, 3) = offset.x;
+    m(1, 3) = offset.y;
+    m(2, 3) = offset.z;
+    return m;
+}
+
 /// Two triangles per cell of an (n + 1) x (n + 1) vertex lattice laid out row by row, the
 /// diagonal alternating from cell to cell so that vertices meet 4 and 8 triangles.
 inline void add_grid_triangles(MeshData& m, int n)
