@@ -85,6 +85,8 @@ void plan_outputs(OutputPlan& plan, const RenderArgs& a, const std::vector<Path>
 }
 
 /// --bary, --normals, --position: resolved on the device only when asked, then written as EXR.
+/// With depth layers each layer is taken out (VisibilityBuffer::layer) and resolved on its own,
+/// every file holding each layer's channels as L{k}.<channel> (layer_channels).
 void write_attributes(Renderer& renderer, const VisibilityBuffer& vis, const Camera& camera, const RenderArgs& a,
                       const std::function<std::string(const std::string&)>& file_name)
 {
@@ -95,8 +97,10 @@ void write_attributes(Renderer& renderer, const VisibilityBuffer& vis, const Cam
     a.corners.request(request);
     if (!request.any()) return;
 #if CLVIS_WITH_IMAGE_IO
-    AttributeBuffers attrs = resolve(renderer, vis, camera, request);
-    std::vector<float> pixels;
+    std::vector<AttributeBuffers> layers;
+    for (int k = 0; k < vis.layers(); ++k)
+        layers.push_back(resolve(renderer, vis.layers() == 1 ? vis : vis.layer(k), camera, request));
+    std::vector<std::vector<float>> pixels(layers.size());
     const struct {
         const std::string& file;
         Attribute attribute;
@@ -106,13 +110,14 @@ void write_attributes(Renderer& renderer, const VisibilityBuffer& vis, const Cam
                    {a.position, Attribute::Position, {"x", "y", "z"}}};
     for (const auto& o : outputs) {
         if (o.file.empty()) continue;
-        attrs.read(o.attribute, pixels);
-        write_float_channels(file_name(o.file), vis.width(), vis.height(), o.channels, pixels);
+        for (std::size_t k = 0; k < layers.size(); ++k) layers[k].read(o.attribute, pixels[k]);
+        write_float_channels(file_name(o.file), vis.width(), vis.height(), layer_channels(o.channels, vis.layers()),
+                             interleave_layers(pixels, o.channels.size()));
     }
-    a.corners.write(attrs, vis.width(), vis.height(), file_name);
+    a.corners.write(layers, vis.width(), vis.height(), file_name);
 #else
     (void)renderer, (void)vis, (void)camera, (void)file_name;
-    a.corners.write(AttributeBuffers(), 0, 0, file_name);
+    a.corners.write({}, 0, 0, file_name);
     no_image_io(!a.bary.empty() ? "--bary" : !a.normals.empty() ? "--normals" : "--position");
 #endif
 }
@@ -254,9 +259,9 @@ std::vector<Path> check_flags(const RenderArgs& a)
             refuse(k + ": --views and --distribute frames|screen draw one layer; render one camera (on one or more "
                        "--devices, or --distribute scene)");
         if (a.ao > 0) refuse(k + ": --ao shades one layer; render the image without --layers");
-        for (const auto& [flag, file, kind] : output_flags(a))
-            if (!file.empty() && kind != OutputKind::Ids && kind != OutputKind::Depth && flag != "--image")
-                refuse(flag + ": resolved for one layer; with " + k + " write --ids and --depth (--image shades layer 0)");
+        if (!a.visible.empty())
+            refuse("--visible: lists the triangles seen, the nearest of each pixel; with " + k +
+                   " the --ids file holds every layer's ids (channels L0.id ..)");
     }
     if (a.path == "all" && !a.views.empty()) refuse("--views: renders one path (--path raster, ray or brute), not all");
     if (a.spread.any() && !a.flow.empty()) refuse("--flow: for one device in one process");
@@ -439,7 +444,8 @@ void add_render_command(CLI::App& app)
         ->check(library_check([](int n) { samples_log2(n); }, "1, 2, 4, 8 or 16"));
     cmd->add_option("--layers", args->options.layers,
                     "depth layers: the K nearest triangles of every pixel (1 to 8; CONVENTIONS.md 'Depth layers'); "
-                    "the id and depth files get channels L0.id .. and L0.Z .. (TIFF: ids in layer order)")
+                    "the id and depth files get channels L0.id .. and L0.Z .. (TIFF: ids in layer order), --bary, "
+                    "--normals, --position, --attributes and --objects every layer's as L0.<channel> ..")
         ->check(library_check([](int n) { check_layers(n); }, "1 to 8"));
     RenderOptions& o = args->options;
     cmd->add_option("--tile", o.tile_size, "raster tile size in pixels (power of two; 0: default)")

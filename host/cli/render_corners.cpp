@@ -52,33 +52,46 @@ void CornerOutputs::request(AttributeRequest& r) const
         for (const AttributeInfo& a : scene) r.named.push_back(a.name);
 }
 
-void CornerOutputs::write(const AttributeBuffers& resolved, int width, int height,
+std::vector<std::string> layer_channels(const std::vector<std::string>& names, int layers)
+{
+    if (layers == 1) return names;
+    std::vector<std::string> all;
+    for (int k = 0; k < layers; ++k)
+        for (const std::string& name : names) all.push_back("L" + std::to_string(k) + "." + name);
+    return all;
+}
+
+void CornerOutputs::write(const std::vector<AttributeBuffers>& resolved, int width, int height,
                           const std::function<std::string(const std::string&)>& file_name) const
 {
 #if CLVIS_WITH_IMAGE_IO
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
+    const int layers = int(resolved.size());
     if (!attributes.empty()) {
         // Every attribute's components side by side: uv.x, uv.y, color.x, .. in the scene's order.
         std::vector<std::string> channels;
         std::size_t total = 0;
         for (const AttributeInfo& a : scene) total += std::size_t(a.components);
-        std::vector<float> all(pixels * total), one;
+        std::vector<std::vector<float>> all(resolved.size(), std::vector<float>(pixels * total));
+        std::vector<float> one;
         std::size_t at = 0;
         for (const AttributeInfo& a : scene) {
-            resolved.read(a.name, one);
-            for (int c = 0; c < a.components; ++c) {
-                channels.push_back(a.name + "." + "xyzw"[c]);
-                for (std::size_t i = 0; i < pixels; ++i)
-                    all[i * total + at + std::size_t(c)] = one[i * std::size_t(a.components) + std::size_t(c)];
+            for (int c = 0; c < a.components; ++c) channels.push_back(a.name + "." + "xyzw"[c]);
+            for (std::size_t k = 0; k < resolved.size(); ++k) {
+                resolved[k].read(a.name, one);
+                for (int c = 0; c < a.components; ++c)
+                    for (std::size_t i = 0; i < pixels; ++i)
+                        all[k][i * total + at + std::size_t(c)] = one[i * std::size_t(a.components) + std::size_t(c)];
             }
             at += std::size_t(a.components);
         }
-        write_float_channels(file_name(attributes), width, height, channels, all);
+        write_float_channels(file_name(attributes), width, height, layer_channels(channels, layers),
+                             interleave_layers(all, total));
     }
     if (!objects.empty()) {
-        std::vector<std::uint32_t> ids;
-        resolved.read_objects(ids);
-        write_object_ids(file_name(objects), width, height, ids);
+        std::vector<std::vector<std::uint32_t>> ids(resolved.size());
+        for (std::size_t k = 0; k < resolved.size(); ++k) resolved[k].read_objects(ids[k]);
+        write_object_ids(file_name(objects), width, height, layers, interleave_layers(ids, 1));
     }
 #else
     (void)resolved, (void)width, (void)height, (void)file_name;

@@ -190,10 +190,19 @@ void write_depth(const std::string& path, const HostVisibility& vis)
 
 void write_object_ids(const std::string& path, int width, int height, const std::vector<std::uint32_t>& objects)
 {
+    write_object_ids(path, width, height, 1, objects);
+}
+
+void write_object_ids(const std::string& path, int width, int height, int layers,
+                      const std::vector<std::uint32_t>& objects)
+{
     if (!has_extension(path, id_extensions())) io_error(path, "object ids are written as " + listed(id_extensions()));
-    if (objects.size() != std::size_t(width) * std::size_t(height))
-        io_error(path, "the object array does not match the image size");
-    write_channels(path, width, height, {"object"}, OIIO::TypeDesc::UINT32, objects.data());
+    if (layers < 1 || objects.size() != std::size_t(width) * std::size_t(height) * std::size_t(layers))
+        io_error(path, "the object array does not match the image size and layers");
+    std::vector<std::string> channels{"object"};
+    if (layers > 1) channels.clear();
+    for (int k = 0; k < layers && layers > 1; ++k) channels.push_back("L" + std::to_string(k) + ".object");
+    write_channels(path, width, height, channels, OIIO::TypeDesc::UINT32, objects.data());
 }
 
 void write_float_channels(const std::string& path, int width, int height, const std::vector<std::string>& channels,

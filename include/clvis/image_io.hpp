@@ -30,6 +30,11 @@ void write_float_channels(const std::string& path, int width, int height, const 
 /// Writes object ids (CONVENTIONS.md "Object ids"): one uint32 channel "object" (.tif, .tiff or
 /// .exr, as id buffers), width x height values, row 0 on top.
 void write_object_ids(const std::string& path, int width, int height, const std::vector<std::uint32_t>& objects);
+/// Object ids of `layers` depth layers (CONVENTIONS.md "Depth layers"), the layers of a pixel
+/// adjacent: uint32 channels "L0.object" .. "L{K-1}.object" (a TIFF keeps them in layer order);
+/// one layer is the file above.
+void write_object_ids(const std::string& path, int width, int height, int layers,
+                      const std::vector<std::uint32_t>& objects);
 /// Reads every channel of an image as float, adjacent per pixel, with its size and channel names.
 std::vector<float> read_float_channels(const std::string& path, int* width, int* height,
                                        std::vector<std::string>* channels = nullptr);
