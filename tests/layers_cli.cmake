@@ -38,6 +38,17 @@ run(${CLVIS} render ${MESH} ${cam} --layers 3 --path ray --coverage raster-rule 
 run(${CLVIS} render ${MESH} ${cam} --layers 3 --path ray --ids ${WORK}/ray.exr --depth ${WORK}/ray-z.exr -q)
 check_layers(raster rule TRUE)
 check_layers(raster ray FALSE)
+
+# --path all with layers: the referee judges every layer (a line each), raster-rule bit-identical.
+execute_process(COMMAND ${CLVIS} render ${MESH} ${cam} --layers 3 --path all --coverage raster-rule --json
+                RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT status EQUAL 0 OR NOT err MATCHES "layer 2: [0-9]+ equal, 0 explained, 0 errors")
+  message(FATAL_ERROR "--path all --layers 3: status ${status}\n${err}")
+endif()
+string(JSON explained GET "${out}" compare explained)
+if(NOT explained EQUAL 0)
+  message(FATAL_ERROR "--path all --layers 3 in raster-rule coverage: ${explained} explained, not bit-identical\n${out}")
+endif()
 if(MPIEXEC)
   run(${MPIEXEC} --allow-run-as-root --oversubscribe -np 3 ${CLVIS} render ${MESH} ${cam} --layers 3 --path raster
       --distribute scene --ids ${WORK}/mpi.exr --depth ${WORK}/mpi-z.exr -q)

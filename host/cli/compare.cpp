@@ -4,6 +4,7 @@
 // wrong: 0 none, 1 some, 2 unusable input.
 #include "commands.hpp"
 #include "options.hpp"
+#include "render_report.hpp"
 
 #include <clvis/clvis.hpp>
 
@@ -141,30 +142,6 @@ nlohmann::json layer_json(const CompareReport& r, int layer)
     return j;
 }
 
-/// Depth layers: every layer's report summed into one (first errors in layer order, up to `max`).
-CompareReport sum_layers(const std::vector<CompareReport>& layers, std::size_t max)
-{
-    CompareReport t;
-    for (const CompareReport& r : layers) {
-        t.pixels += r.pixels;
-        t.judged += r.judged;
-        t.equal += r.equal;
-        t.explained += r.explained;
-        t.errors += r.errors;
-        t.errors_a += r.errors_a;
-        t.errors_b += r.errors_b;
-        t.depths_judged = r.depths_judged;
-        t.depth_equal += r.depth_equal;
-        t.depth_explained += r.depth_explained;
-        t.depth_errors += r.depth_errors;
-        t.depth_errors_a += r.depth_errors_a;
-        t.depth_errors_b += r.depth_errors_b;
-        for (const PixelVerdict& v : r.first_errors)
-            if (t.first_errors.size() < max) t.first_errors.push_back(v);
-    }
-    return t;
-}
-
 int run_compare(const CompareArgs& args)
 {
     Inputs in;
@@ -228,14 +205,7 @@ int run_compare(const CompareArgs& args)
         if (r.depths_judged)
             std::printf("depths: %zu equal, %zu explained, %zu errors (first %zu, second %zu)\n", r.depth_equal,
                         r.depth_explained, r.depth_errors, r.depth_errors_a, r.depth_errors_b);
-        for (std::size_t k = 0; k < per_layer.size(); ++k) {
-            const CompareReport& l = per_layer[k];
-            std::printf("layer %zu: %zu equal, %zu explained, %zu errors", k, l.equal, l.explained, l.errors);
-            if (l.depths_judged)
-                std::printf("; depths: %zu equal, %zu explained, %zu errors", l.depth_equal, l.depth_explained,
-                            l.depth_errors);
-            std::printf("\n");
-        }
+        for (const std::string& line : layer_lines(per_layer)) std::printf("%s\n", line.c_str());
         for (const PixelVerdict& v : r.first_errors) std::printf("  %s\n", v.describe().c_str());
         if (r.first_errors.size() == args.max_reported && (r.errors > 0 || r.depth_errors > 0))
             std::printf("  ... (--max-errors N lists more)\n");

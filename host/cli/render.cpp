@@ -352,8 +352,16 @@ void render_command(RenderArgs a)
     if (a.timings) say(first_frame_line(open_ms, renderer_ms, results));
     CompareReport verdict;
     if (several) {
-        verdict = Referee(file.scene, camera, a.width, a.height, a.options).compare(results[0].vis, results[1].vis);
-        for (const std::string& line : compare_lines(verdict)) say(line);
+        Referee referee(file.scene, camera, a.width, a.height, a.options);
+        if (a.options.layers > 1) { // depth layers: each judged against its own earlier layers
+            std::vector<CompareReport> per_layer = referee.compare_layers(results[0].vis, results[1].vis);
+            verdict = sum_layers(per_layer, CompareOptions{}.max_reported);
+            for (const std::string& line : compare_lines(verdict)) say(line);
+            for (const std::string& line : layer_lines(per_layer)) say("clvis: " + line);
+        } else {
+            verdict = referee.compare(results[0].vis, results[1].vis);
+            for (const std::string& line : compare_lines(verdict)) say(line);
+        }
     }
     for (const std::string& f : plan.commit()) say("clvis: wrote " + f);
     if (a.json) {

@@ -61,6 +61,49 @@ std::vector<std::string> compare_lines(const CompareReport& rep)
     return lines;
 }
 
+/// Depth layers: every layer's report summed into one (first errors in layer order, up to `max`).
+CompareReport sum_layers(const std::vector<CompareReport>& layers, std::size_t max)
+{
+    CompareReport t;
+    for (const CompareReport& r : layers) {
+        t.pixels += r.pixels;
+        t.judged += r.judged;
+        t.equal += r.equal;
+        t.explained += r.explained;
+        t.errors += r.errors;
+        t.errors_a += r.errors_a;
+        t.errors_b += r.errors_b;
+        t.depths_judged = r.depths_judged;
+        t.depth_equal += r.depth_equal;
+        t.depth_explained += r.depth_explained;
+        t.depth_errors += r.depth_errors;
+        t.depth_errors_a += r.depth_errors_a;
+        t.depth_errors_b += r.depth_errors_b;
+        for (const PixelVerdict& v : r.first_errors)
+            if (t.first_errors.size() < max) t.first_errors.push_back(v);
+    }
+    return t;
+}
+
+std::vector<std::string> layer_lines(const std::vector<CompareReport>& layers)
+{
+    std::vector<std::string> lines;
+    char buf[256];
+    for (std::size_t k = 0; k < layers.size(); ++k) {
+        const CompareReport& l = layers[k];
+        std::snprintf(buf, sizeof buf, "layer %zu: %zu equal, %zu explained, %zu errors", k, l.equal, l.explained,
+                      l.errors);
+        std::string line = buf;
+        if (l.depths_judged) {
+            std::snprintf(buf, sizeof buf, "; depths: %zu equal, %zu explained, %zu errors", l.depth_equal,
+                          l.depth_explained, l.depth_errors);
+            line += buf;
+        }
+        lines.push_back(line);
+    }
+    return lines;
+}
+
 namespace {
 
 nlohmann::json stages_json(const FrameTiming& t)

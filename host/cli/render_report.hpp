@@ -34,6 +34,12 @@ std::string first_frame_line(double open_ms, double renderer_ms, const std::vect
 /// The referee's verdict on raster (a) against ray (b): a summary line, then one per first error.
 std::vector<std::string> compare_lines(const CompareReport& report);
 
+/// Depth layers: every layer's report summed into one (first errors in layer order, up to `max`).
+CompareReport sum_layers(const std::vector<CompareReport>& layers, std::size_t max);
+
+/// Depth layers: one line per layer, "layer k: N equal, N explained, N errors; depths: ...".
+std::vector<std::string> layer_lines(const std::vector<CompareReport>& layers);
+
 /// What --json says of one render beside its paths' results.
 struct RenderJson {
     std::size_t triangles = 0;
