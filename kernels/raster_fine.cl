@@ -13,26 +13,34 @@
 
 #define CLVIS_FINE_AHEAD 4 /* bin entries: how far ahead a triangle is prefetched (CLVIS_PREFETCH) */
 
-#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
-/* Depth layers (shared/layers.h): raster_fine's square and walk, each covered sample's key
-   inserted into the sample's sorted list of CLVIS_LAYERS keys in the buffer itself. The
-   work-item owns its square's keys for the launch (setup's atomics finished before it), so the
-   insert needs no atomics, under tile ownership or not; without `merge` it first writes the
-   background into every layer of the square. No occlusion bound: the K-th key rises slowly. */
-static inline CLVIS_ALWAYS_INLINE void
-raster_fine_layers(__global const clvis_raster_tri* tris, __global const uint* entries, __global const uint* offsets,
-                   int tile_log2, int tiles_x, clvis_camera_gpu cam, __global ulong* keys, clvis_region region,
-                   uint first, uint chunk, int merge, uint capacity)
+/* Both fine kernels' bin range (depth layers or not): the entries [*begin, *end) that a launch
+   walks for the square or group whose first pixel is (px0, py0), the `chunk` of its tile's bin
+   from `first`. 0 when the bins ran past `capacity`: then nothing is written, the host redraws
+   the frame with larger bins. */
+static inline CLVIS_ALWAYS_INLINE int fine_bin(__global const uint* offsets, int tile_log2, int tiles_x, int px0,
+                                               int py0, uint first, uint chunk, uint capacity, uint* begin, uint* end)
 {
-    int sub = min(1 << tile_log2, CLVIS_FINE_SUB);
-    int px0 = (int)get_global_id(0) * sub, py0 = (int)get_global_id(1) * sub;
-    if (px0 >= region.width || py0 >= region.height) return;
-    int px1 = min(px0 + sub, region.width) - 1, py1 = min(py0 + sub, region.height) - 1;
     uint tile = (uint)(py0 >> tile_log2) * (uint)tiles_x + (uint)(px0 >> tile_log2);
-    uint begin = offsets[tile], end = offsets[tile + 1];
-    if (end > capacity) return; /* the bins overflowed: the host redraws the frame */
-    begin = first < end - begin ? begin + first : end;
-    end = chunk < end - begin ? begin + chunk : end;
+    uint b = offsets[tile], e = offsets[tile + 1];
+    if (e > capacity) return 0;
+    b = first < e - b ? b + first : e;
+    *begin = b;
+    *end = chunk < e - b ? b + chunk : e;
+    return 1;
+}
+
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+/* Depth layers (shared/layers.h): raster_fine's walk of its square (px0..px1, py0..py1) over
+   the bin entries [begin, end), each covered sample's key inserted into the sample's sorted
+   list of CLVIS_LAYERS keys in the buffer itself. The work-item owns its square's keys for the
+   launch (setup's atomics finished before it), so the insert needs no atomics, under tile
+   ownership or not; without `merge` it first writes the background into every layer of the
+   square. No occlusion bound: the K-th key rises slowly. */
+static inline CLVIS_ALWAYS_INLINE void
+raster_fine_layers(__global const clvis_raster_tri* tris, __global const uint* entries, clvis_camera_gpu cam,
+                   __global ulong* keys, clvis_region region, int px0, int py0, int px1, int py1, uint begin,
+                   uint end, int merge)
+{
     int n_log2 = cam.sample_log2;
     size_t plane = ((size_t)region.width * (size_t)region.height) << n_log2; /* keys per layer */
     if (!merge)
@@ -78,19 +86,17 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
                           __global ulong* keys, clvis_region region, uint first, uint chunk, int merge,
                           uint capacity)
 {
-#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
-    raster_fine_layers(tris, entries, offsets, tile_log2, tiles_x, cam, keys, region, first, chunk, merge, capacity);
-    return;
-#endif
     int sub = min(1 << tile_log2, CLVIS_FINE_SUB);
     int px0 = (int)get_global_id(0) * sub, py0 = (int)get_global_id(1) * sub;
     if (px0 >= region.width || py0 >= region.height) return; /* region pixels, shared/region.h */
     int px1 = min(px0 + sub, region.width) - 1, py1 = min(py0 + sub, region.height) - 1;
-    uint tile = (uint)(py0 >> tile_log2) * (uint)tiles_x + (uint)(px0 >> tile_log2);
-    uint begin = offsets[tile], end = offsets[tile + 1];
-    if (end > capacity) return; /* the bins overflowed: the host redraws the frame */
-    begin = first < end - begin ? begin + first : end;
-    end = chunk < end - begin ? begin + chunk : end;
+    uint begin, end;
+    if (!fine_bin(offsets, tile_log2, tiles_x, px0, py0, first, chunk, capacity, &begin, &end))
+        return; /* the bins overflowed: the host redraws the frame */
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+    raster_fine_layers(tris, entries, cam, keys, region, px0, py0, px1, py1, begin, end, merge);
+    return;
+#endif
     int n_log2 = cam.sample_log2;
     if (begin == end) { /* an empty bin (or chunk): nothing to merge, or the background to write */
         if (merge) return;
@@ -211,11 +217,9 @@ __kernel void raster_fine_pixel(__global const clvis_raster_tri* tris, __global 
     int i = px0 + (int)get_local_id(0), j = py0 + (int)get_local_id(1);
     int lid = (int)get_local_id(1) * gw + (int)get_local_id(0), items = gw * gh;
     int inside = i < region.width && j < region.height;
-    uint tile = (uint)(py0 >> tile_log2) * (uint)tiles_x + (uint)(px0 >> tile_log2);
-    uint begin = offsets[tile], end = offsets[tile + 1];
-    if (end > capacity) return; /* the bins overflowed (the whole group): the host redraws the frame */
-    begin = first < end - begin ? begin + first : end;
-    end = chunk < end - begin ? begin + chunk : end;
+    uint begin, end;
+    if (!fine_bin(offsets, tile_log2, tiles_x, px0, py0, first, chunk, capacity, &begin, &end))
+        return; /* the bins overflowed (the whole group): the host redraws the frame */
 
 #if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
     ulong list[CLVIS_LAYERS]; /* the pixel's layers (shared/layers.h), merged into the buffer at the end */

@@ -351,26 +351,29 @@ static void walk_start(__global const float* rays, int layout, ulong stride, ulo
 #define CLVIS_QUERY_LANES 1
 #endif
 
+/* Both kernels' last arguments, all hits only: max_hits (the list's length, 1 .. CLVIS_MAX_HITS) and
+   counts (null: not asked). The other queries take neither: QUERY_ALL_DEFAULTS, first in each
+   kernel's body, gives them max_hits 1 and no counts. */
+#if CLVIS_QUERY == CLVIS_QUERY_ALL
+#define QUERY_ALL_ARGS , uint max_hits, __global uint* counts
+#define QUERY_ALL_DEFAULTS
+#else
+#define QUERY_ALL_ARGS
+#define QUERY_ALL_DEFAULTS const uint max_hits = 1u; __global uint* counts = 0;
+#endif
+
 /* Work-item g answers rays [g * per_item, (g + 1) * per_item) of the batch, CLVIS_QUERY_LANES at a
    time: a lane whose ray is answered stores it and takes the next. `instances` only with
-   CLVIS_INSTANCES: the flat build's arguments (and code) are as before. All hits only: max_hits (the
-   list's length, 1 .. CLVIS_MAX_HITS) and counts (null: not asked), both kernels' last arguments. */
+   CLVIS_INSTANCES: the flat build's arguments (and code) are as before. */
 __kernel void ray_query(__global const clvis_bvh4_node* nodes, uint node_count, __global const clvis_bvh_tri* tris,
 #ifdef CLVIS_INSTANCES
                         __global const clvis_instance* instances,
 #endif
                         __global const float* rays, int ray_layout, ulong ray_stride, ulong ray_offset, uint count,
                         uint per_item, __global out_t* out, int out_layout, ulong out_stride, ulong out_offset,
-                        __global uint* invalid
-#if CLVIS_QUERY == CLVIS_QUERY_ALL
-                        , uint max_hits, __global uint* counts
-#endif
-                        )
+                        __global uint* invalid QUERY_ALL_ARGS)
 {
-#if CLVIS_QUERY != CLVIS_QUERY_ALL
-    const uint max_hits = 1u;
-    __global uint* counts = 0;
-#endif
+    QUERY_ALL_DEFAULTS
 #ifndef CLVIS_INSTANCES
     __global const clvis_instance* instances = 0;
 #endif
@@ -412,16 +415,9 @@ __kernel void ray_query_brute(__global const float* positions, __global const ui
                               __global const clvis_item_mesh* meshes, __global const clvis_item* items, uint item_count,
                               __global const float* rays, int ray_layout, ulong ray_stride, ulong ray_offset,
                               uint count, __global out_t* out, int out_layout, ulong out_stride, ulong out_offset,
-                              __global uint* invalid
-#if CLVIS_QUERY == CLVIS_QUERY_ALL
-                              , uint max_hits, __global uint* counts
-#endif
-                              )
+                              __global uint* invalid QUERY_ALL_ARGS)
 {
-#if CLVIS_QUERY != CLVIS_QUERY_ALL
-    const uint max_hits = 1u;
-    __global uint* counts = 0;
-#endif
+    QUERY_ALL_DEFAULTS
     uint i = (uint)get_global_id(0);
     if (i >= count) return;
     clvis_ray_rec r = load_ray(rays, ray_layout, ray_stride, ray_offset + i);

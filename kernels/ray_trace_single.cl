@@ -172,6 +172,19 @@ static inline CLVIS_ALWAYS_INLINE int single_children(single_walk* c, __global c
     (test_leaf((c)->r, *(c)->cam, (c)->faces, tris, first, count, xi), 0)
 #include "shared/bvh_walk.h"
 
+/* The whole walk of ray r (cast with camera cam); `two_level` starts in the top level of
+   `instances`. */
+static void walk_single(single_ray* r, const clvis_camera_gpu* cam, __global const clvis_bvh4_node* nodes,
+                        uint node_count, __global const clvis_bvh_tri* tris, __global const clvis_instance* instances,
+                        int two_level, int faces)
+{
+    single_walk c = {r, cam, faces};
+    clvis_walk walk;
+    clvis_walk_stack st;
+    clvis_walk_start(&walk, node_count, two_level);
+    while (walk.node != CLVIS_WALK_DONE) clvis_walk_step(&c, 0, 1, nodes, tris, instances, &walk, &st);
+}
+
 #if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
 /* Depth layers: the K nearest keys of the ray of pixel (x, y) into out[0], out[plane], .. */
 static void trace_single_layers(clvis_camera_gpu cam, int x, int y, __global const clvis_bvh4_node* nodes,
@@ -180,11 +193,7 @@ static void trace_single_layers(clvis_camera_gpu cam, int x, int y, __global con
                                 __global ulong* out, size_t plane)
 {
     single_ray r = make_ray(cam, x, y);
-    single_walk c = {&r, &cam, faces};
-    clvis_walk walk;
-    clvis_walk_stack st;
-    clvis_walk_start(&walk, node_count, two_level);
-    while (walk.node != CLVIS_WALK_DONE) clvis_walk_step(&c, 0, 1, nodes, tris, instances, &walk, &st);
+    walk_single(&r, &cam, nodes, node_count, tris, instances, two_level, faces);
     for (int k = 0; k < CLVIS_LAYERS; ++k) out[(size_t)k * plane] = r.list[k];
 }
 #endif
@@ -195,11 +204,7 @@ static ulong trace_single(clvis_camera_gpu cam, int x, int y, __global const clv
                           int faces)
 {
     single_ray r = make_ray(cam, x, y);
-    single_walk c = {&r, &cam, faces};
-    clvis_walk walk;
-    clvis_walk_stack st;
-    clvis_walk_start(&walk, node_count, two_level);
-    while (walk.node != CLVIS_WALK_DONE) clvis_walk_step(&c, 0, 1, nodes, tris, instances, &walk, &st);
+    walk_single(&r, &cam, nodes, node_count, tris, instances, two_level, faces);
     return r.best;
 }
 
