@@ -51,21 +51,23 @@ const TuneWorkload& tune_workload()
                 std::string(tune_workload_variable) + " must name one of full, small, got '" + v + "'");
 }
 
+Scene make_tuning_scene(const TuneWorkload& w)
+{
+    Scene s;
+    s.add_mesh(make_grid(w.grid, 21));
+    s.add_mesh(make_uv_sphere(w.sphere));
+    return s;
+}
+
+/// The workload's scene, made once in the process when first asked for.
 const Scene& tuning_scene(const TuneWorkload& w)
 {
-    static const Scene full = [] {
-        Scene s;
-        s.add_mesh(make_grid(tune_workloads[0].grid, 21));
-        s.add_mesh(make_uv_sphere(tune_workloads[0].sphere));
-        return s;
-    }();
-    static const Scene small = [] {
-        Scene s;
-        s.add_mesh(make_grid(tune_workloads[1].grid, 21));
-        s.add_mesh(make_uv_sphere(tune_workloads[1].sphere));
-        return s;
-    }();
-    return &w == &tune_workloads[0] ? full : small;
+    if (&w == &tune_workloads[0]) {
+        static const Scene full = make_tuning_scene(w);
+        return full;
+    }
+    static const Scene small = make_tuning_scene(w);
+    return small;
 }
 
 } // namespace
