@@ -30,7 +30,7 @@ TuneRequest raster_mapping_request(const Device& device, const RenderOptions& op
     r.key = tune_device_key(device, {"raster_setup", "raster_bin", "raster_fine", "visibility_clear"});
     r.key.insert(r.key.end(), {{"depth_test", raster_owned(device.info(), options) ? "owned" : "atomics"},
                                {"tile", std::to_string(1 << raster_tile_log2(options))},
-                               {"workload", tune_workload_name}});
+                               {"workload", tune_workload_name()}});
     r.candidates = {to_string(RasterMapping::Square), to_string(RasterMapping::Pixel)};
     r.measure = [device, options](const std::string& candidate) {
         return measure_mapping(device, options, raster_mapping_from_string(candidate));

@@ -34,7 +34,7 @@ TuneRequest ray_mapping_request(const Device& device, const RenderOptions& optio
         return measure_tune_frames(device, o, Path::Ray);
     };
     r.key = tune_device_key(device, {"ray_trace", "ray_trace_single"});
-    r.key.insert(r.key.end(), {{"coverage", to_string(options.coverage)}, {"workload", tune_workload_name}});
+    r.key.insert(r.key.end(), {{"coverage", to_string(options.coverage)}, {"workload", tune_workload_name()}});
     return r;
 }
 

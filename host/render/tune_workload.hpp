@@ -13,8 +13,10 @@
 namespace clvis::detail {
 
 /// Names the workload in the tuners' keys: changing the scene, the size or the timing rule below
-/// changes it, so that earlier measurements are not read as this one's.
-extern const char* const tune_workload_name;
+/// changes it, so that earlier measurements are not read as this one's. CLVIS_TUNE_WORKLOAD picks
+/// the workload: `full` (the default, below) or `small` (160x120, 600 triangles: for a simulator
+/// or a test), each with a name of its own; any other value is an Error (InvalidArgument) naming it.
+const char* tune_workload_name();
 
 /// The start of a tuner's key: the device, platform and driver, and "kernels", a hash of the library
 /// version, the device's build options and the embedded sources of the kernels `names` (a changed
@@ -23,7 +25,7 @@ TuneKey tune_device_key(const Device& device, std::initializer_list<const char*>
 
 /// The fastest of up to 3 timed frames (after one untimed: the driver's first launch, the BVH
 /// build; fewer once the timed ones took 500 ms in all) of the tuning scene (a UV sphere over a
-/// height field, 12,000 triangles, 640x480) drawn by `path` under `options`, in host wall ms
+/// height field, 12,000 triangles, 640x480; CLVIS_TUNE_WORKLOAD=small: 600 triangles, 160x120) drawn by `path` under `options`, in host wall ms
 /// (FrameTiming::frame_ms): every driver measures it alike, where profiling timestamps need not
 /// mean anything (Rusticl on llvmpipe reported 1 ns for every stage).
 double measure_tune_frames(const Device& device, const RenderOptions& options, Path path);
