@@ -50,6 +50,7 @@ std::vector<RayRecord> read_rays_converted(const std::string& path)
 
 void rays_command(const RaysArgs& a)
 {
+    return_large_blocks();
     if (int ranks = mpi_world_size_from_environment(); ranks > 1)
         throw Error(Error::Kind::InvalidArgument, "--hits: clvis rays runs as " + std::to_string(ranks) +
                                                       " MPI processes (mpirun), which would all write '" + a.hits +

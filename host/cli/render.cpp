@@ -272,6 +272,7 @@ std::vector<Path> check_flags(const RenderArgs& a)
 
 void render_command(RenderArgs a)
 {
+    return_large_blocks();
     std::vector<Path> paths = check_flags(a);
     std::vector<Camera> cameras;
     ViewsFile vf;
