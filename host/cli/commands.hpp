@@ -22,4 +22,8 @@ void add_compare_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
 void add_rays_command(CLI::App& app);
 
+/// Blocks of 1 MB or more mapped on their own and returned to the system when freed (glibc; a
+/// no-op elsewhere): what render and rays set before loading (memory_policy.cpp, issue 37).
+void return_large_blocks();
+
 } // namespace clvis::cli

@@ -277,6 +277,7 @@ std::vector<Path> check_flags(const RenderArgs& a)
 
 void render_command(RenderArgs a)
 {
+    return_large_blocks();
     std::vector<Path> paths = check_flags(a);
     std::vector<Camera> cameras;
     ViewsFile vf;
@@ -334,14 +335,14 @@ void render_command(RenderArgs a)
         std::to_string(a.scene.files.size()) + " file(s) in " + std::to_string(int(load_ms + 0.5)) + " ms; device " +
         device.info().name);
     if (a.views.empty() && view.framed) say("clvis: framing camera: " + camera.to_flags());
-    auto t_renderer = std::chrono::steady_clock::now();
-    Renderer renderer(device, file.scene, a.options);
-    const double renderer_ms = bench::ms_since(t_renderer);
-    // The Renderer holds its own copy of the scene; one path needs nothing more of ours (only
-    // --path all's referee does, and views that move items), so the mesh is held once at the BVH
-    // build's peak (issue 37).
+    // One path needs nothing more of our scene (only --path all's referee does, and views that
+    // move items): the Renderer takes it over, so the mesh is held once, never copied (issue 37).
     const std::size_t triangle_count = file.scene.triangle_count();
-    if (!several && !vf.moves()) file.scene = Scene();
+    const bool keep_scene = several || vf.moves();
+    auto t_renderer = std::chrono::steady_clock::now();
+    Renderer renderer = keep_scene ? Renderer(device, file.scene, a.options)
+                                   : Renderer(device, std::move(file.scene), a.options);
+    const double renderer_ms = bench::ms_since(t_renderer);
 
     std::vector<PathResult> results;
     for (Path p : paths) {

@@ -45,7 +45,7 @@ RankWork prepare(const SpreadRequest& r, Path path, const Device& device, int ra
         r.file->scene = Scene(); // this rank holds only its share from here on
         w.id_base = std::uint32_t(share.first);
         w.triangles = share.size();
-        if (share.size() > 0) w.renderer = std::make_unique<Renderer>(device, part, r.options);
+        if (share.size() > 0) w.renderer = std::make_unique<Renderer>(device, std::move(part), r.options);
     } else {
         w.triangles = r.file->scene.triangle_count();
         w.renderer = std::make_unique<Renderer>(device, r.file->scene, r.options);

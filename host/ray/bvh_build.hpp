@@ -66,6 +66,24 @@ Bvh4 collapse_bvh4(const Bvh& bvh, bool aligned = false);
 /// Copies the boxes of a refitted `bvh` into the 4-wide nodes collapsed from it (same grouping).
 void refit_bvh4(Bvh4& wide, const Bvh& bvh);
 
+/// What a refit needs of the binary tree's shape, kept between refits (issue 37's memory): each
+/// node's leaf triangle count in depth-first order (0 for an interior node), one byte a node.
+/// Throws Error(Limit) for a leaf of more than 255 triangles (the build makes at most 64).
+std::vector<std::uint8_t> bvh_leaf_counts(const std::vector<clvis_bvh_node>& nodes);
+
+/// The binary nodes `counts` describes, boxes zero: each leaf's first slot follows the previous
+/// leaf's, each interior node's right child follows its left subtree (depth-first order), so the
+/// first and count of every node are the built tree's. Throws Error(InvalidArgument) where
+/// `counts` is no depth-first tree.
+std::vector<clvis_bvh_node> bvh_from_leaf_counts(const std::vector<std::uint8_t>& counts);
+
+/// Bvh4::source of `wide`, collapsed from the binary tree whose first and count `binary` holds
+/// (boxes not read): each used slot's binary node, found by its leaf slot range, which names one
+/// node (every interior node has two non-empty children), in the binary node's subtree that the
+/// 4-wide node was collapsed from. Throws Error(InvalidArgument) where the trees disagree.
+std::vector<std::uint32_t> bvh4_source_of(const std::vector<clvis_bvh_node>& binary,
+                                          const std::vector<clvis_bvh4_node>& wide);
+
 /// Builds the BVH of `triangle_count` triangles given by `indices` (3 per triangle, id order)
 /// into `positions` (3 floats per vertex). Same input, same bits, whatever the threads do. With
 /// `wide`, also collapses it there (collapse_bvh4, aligned as options.full_leaves): on the pool,

@@ -81,12 +81,15 @@ struct RayPipeline::Impl {
     cl::NDRange brute_items_group;
     int trace_stack = 0;                  ///< CLVIS_RAY_STACK of the built trace kernel
     /// The binary tree, kept for refits (flat: a scene without instances). Between builds and
-    /// refits it holds only what a refit reads: each node's first and count (its boxes, which a
-    /// refit recomputes, freed: `topology`) and the leaf slots' ids (bvh.ids; tris empty).
+    /// refits the host holds one byte a node of it (issue 37's memory): `shape`, each node's leaf
+    /// count (bvh_leaf_counts), from which a refit derives every first and count again; the leaf
+    /// slots' ids are read back from the device's triangles, and `leaf_slots` is their number.
     Bvh bvh;
-    std::vector<std::array<std::uint32_t, 2>> topology;
-    /// What the kernel reads; its nodes are freed on the host once uploaded (read back for a
-    /// refit), its source and depth kept. wide_nodes: their count.
+    std::vector<std::uint8_t> shape;
+    std::size_t leaf_slots = 0;
+    /// What the kernel reads; its nodes and source are freed on the host once uploaded (a refit
+    /// reads the nodes back and derives the source: bvh4_source_of), its depth kept. wide_nodes:
+    /// their count.
     Bvh4 wide;
     std::size_t wide_nodes = 0;
     bool built = false;
@@ -212,40 +215,38 @@ struct RayPipeline::Impl {
         }
     }
 
-    /// Keeps of the binary nodes only what a refit reads (first and count; it recomputes every
-    /// box): 8 bytes a node, not 32, before the upload.
+    /// Keeps of the binary nodes only what a refit reads (the shape: it recomputes every box and
+    /// derives first and count from the leaf counts): a byte a node, not 32, before the upload.
     void compact_binary()
     {
-        topology.resize(bvh.nodes.size());
-        for (std::size_t i = 0; i < bvh.nodes.size(); ++i) topology[i] = {bvh.nodes[i].first, bvh.nodes[i].count};
+        shape = bvh_leaf_counts(bvh.nodes);
         std::vector<clvis_bvh_node>().swap(bvh.nodes);
     }
 
-    /// Once the 4-wide nodes are on the device: frees the host's, which only a refit reads again
-    /// (restore_host_tree).
+    /// Once the 4-wide nodes are on the device: frees the host's and their source, which only a
+    /// refit reads again (restore_host_tree).
     void release_host_tree()
     {
         wide_nodes = wide.nodes.size();
         std::vector<clvis_bvh4_node>().swap(wide.nodes);
+        std::vector<std::uint32_t>().swap(wide.source);
     }
 
-    /// The host tree release_host_tree freed, for a refit: binary nodes from the topology (boxes
-    /// zero: a refit recomputes every one), leaf slots named by their ids, 4-wide nodes read back.
+    /// The host tree release_host_tree freed, for a refit: binary nodes from the shape (boxes
+    /// zero: a refit recomputes every one), the leaf slots and 4-wide nodes read back from the
+    /// device (a refit reads the slots' ids and writes their vertices), the source derived.
     void restore_host_tree(cl::CommandQueue& queue)
     {
-        bvh.nodes.assign(topology.size(), clvis_bvh_node{});
-        for (std::size_t i = 0; i < topology.size(); ++i) {
-            bvh.nodes[i].first = topology[i][0];
-            bvh.nodes[i].count = topology[i][1];
-        }
-        bvh.tris.assign(bvh.ids.size(), clvis_bvh_tri{});
-        for (std::size_t i = 0; i < bvh.ids.size(); ++i) bvh.tris[i].id = bvh.ids[i];
+        bvh.nodes = bvh_from_leaf_counts(shape);
+        bvh.tris.resize(leaf_slots);
         wide.nodes.resize(wide_nodes);
         try {
+            if (leaf_slots) queue.enqueueReadBuffer(tris, CL_TRUE, 0, leaf_slots * sizeof(clvis_bvh_tri), bvh.tris.data());
             if (wide_nodes) queue.enqueueReadBuffer(nodes, CL_TRUE, 0, wide_nodes * sizeof(clvis_bvh4_node), wide.nodes.data());
         } catch (const cl::Error& e) {
             throw_cl_error(e, "reading the BVH back from " + device.info.name);
         }
+        wide.source = bvh4_source_of(bvh.nodes, wide.nodes);
     }
 
     /// Uploads the flat BVH (nodes, tris: gathered from `world` where given, else bvh.tris), or
@@ -269,6 +270,9 @@ struct RayPipeline::Impl {
                 release_host_tree();
                 if (world) put_tris(*world, queue);
                 else put(tris, bvh.tris, "triangles", queue);
+                // A refit reads the ids back from the device's slots (restore_host_tree).
+                leaf_slots = world ? bvh.ids.size() : bvh.tris.size();
+                std::vector<std::uint32_t>().swap(bvh.ids);
                 if (!instances()) put(instances, std::vector<clvis_instance>(), "instances", queue);
             }
             queue.finish();
@@ -362,7 +366,7 @@ void RayPipeline::update(const Scene& scene, cl::CommandQueue& queue)
 {
     Impl& m = *impl_;
     if (!m.built || m.two_level || m.options.bvh.update == BvhUpdate::Rebuild ||
-        m.bvh.ids.size() != scene.triangle_count()) {
+        m.leaf_slots != scene.triangle_count()) {
         m.rebuild(scene, queue);
         return;
     }

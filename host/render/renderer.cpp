@@ -177,21 +177,42 @@ void Renderer::Impl::prepare(Path path)
     else ray_pipeline();
 }
 
-Renderer::Renderer(Device device, const Scene& scene, RenderOptions options) : impl_(std::make_unique<Impl>())
+namespace {
+
+/// Both constructors: `take` gives the Renderer its scene (a copy, or the caller's moved in).
+template <class Take>
+void make_renderer(Renderer::Impl& m, Device& device, const RenderOptions& options, Take take)
 {
     DeviceAccess::of(device, "Renderer");
     check_options(options);
     error_boundary("making a Renderer", [&] {
-        impl_->device = std::move(device);
-        impl_->options = options;
-        impl_->scene = scene;
-        impl_->queue = impl_->dev().make_queue();
+        m.device = std::move(device);
+        m.options = options;
+        take(m.scene);
+        m.queue = m.dev().make_queue();
         // A plain scene is checked against the device now (errors surface here) and uploaded when
         // a path that reads it first runs (raster, brute, shading): the ray path's BVH holds its
         // own copy of the triangles, so a ray-only Renderer never holds both (issue 37). One with
         // instances: its expansion likewise.
-        for (const Scene::Mesh& item : scene.meshes()) impl_->instanced |= item.prototype != Scene::no_prototype;
-        if (!impl_->instanced) impl_->check_scene_fits();
+        for (const Scene::Mesh& item : m.scene.meshes()) m.instanced |= item.prototype != Scene::no_prototype;
+        if (!m.instanced) m.check_scene_fits();
+    });
+}
+
+} // namespace
+
+Renderer::Renderer(Device device, const Scene& scene, RenderOptions options) : impl_(std::make_unique<Impl>())
+{
+    make_renderer(*impl_, device, options, [&](Scene& mine) { mine = scene; });
+}
+
+Renderer::Renderer(Device device, Scene&& scene, RenderOptions options) : impl_(std::make_unique<Impl>())
+{
+    // Swapped out, so that the caller's Scene is left empty (no cached expansion left claiming
+    // to be valid) whatever Scene's own move leaves behind.
+    make_renderer(*impl_, device, options, [&](Scene& mine) {
+        mine = std::move(scene);
+        scene = Scene();
     });
 }
 

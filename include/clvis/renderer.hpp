@@ -25,6 +25,9 @@ public:
     /// Error(Build) with the build log when a kernel fails to build.
     /// A moved-from Renderer throws Error(InvalidArgument) naming the call from every member.
     Renderer(Device device, const Scene& scene, RenderOptions options = {});
+    /// The same, taking over `scene` instead of copying it (the meshes are then held once): for a
+    /// caller that needs its Scene no more. `scene` is left empty.
+    Renderer(Device device, Scene&& scene, RenderOptions options = {});
     ~Renderer();
     Renderer(Renderer&&) noexcept;
     Renderer& operator=(Renderer&&) noexcept;
