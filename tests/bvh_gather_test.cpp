@@ -5,24 +5,15 @@
 #include "catch.hpp"
 
 #include "ray/bvh_build.hpp"
+#include "test_meshes.hpp"
 
 #include <clvis/procedural.hpp>
 
-#include <cstring>
 #include <vector>
 
 using namespace clvis;
 using namespace clvis::detail;
-
-namespace {
-
-template <class T>
-bool same_bytes(const std::vector<T>& a, const std::vector<T>& b)
-{
-    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
-
-} // namespace
+using clvis::test::same_bytes;
 
 TEST_CASE("a BVH built without gathering gives the gathered one's tree and triangles", "[bvh]")
 {

@@ -6,24 +6,19 @@
 #include "catch.hpp"
 
 #include "ray/bvh_build.hpp"
+#include "test_meshes.hpp"
 #include "render/renderer_impl.hpp"
 
 #include <clvis/clvis.hpp>
 #include <clvis/procedural.hpp>
 
-#include <cstring>
 #include <vector>
 
 using namespace clvis;
 using namespace clvis::detail;
+using clvis::test::same_bytes;
 
 namespace {
-
-template <class T>
-bool same_bytes(const std::vector<T>& a, const std::vector<T>& b)
-{
-    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
 
 /// Every node's first and count equal (boxes not compared).
 bool same_shape(const std::vector<clvis_bvh_node>& a, const std::vector<clvis_bvh_node>& b)

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <vector>
 
 namespace clvis::test {
 
@@ -95,6 +96,12 @@ inline Camera look(Vec3 eye, Vec3 target, double fov, double near, double far)
     Vec3 f = normalize(target - eye);
     Vec3 up = std::fabs(f.y) < 0.9 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
     return Camera::perspective(eye, target, up, fov, near, far);
+}
+
+/// The two arrays hold the same bytes (and the same number of elements).
+template <class T> bool same_bytes(const std::vector<T>& a, const std::vector<T>& b)
+{
+    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
 } // namespace clvis::test
