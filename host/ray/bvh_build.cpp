@@ -338,7 +338,7 @@ Bvh build_bvh(const float* positions, const std::uint32_t* indices, std::size_t 
         if (wide) *wide = collapse_bvh4(out, aligned);
     };
     if (!options.gather) {
-        // The ids alone, the scratch freed, then the collapse: the leaf triangles (48 bytes each)
+        // The ids alone, the scratch freed, then the collapse: the leaf triangles (40 bytes each)
         // are the caller's to gather where it keeps them.
         out.ids.resize(triangle_count);
         parallel_slices(triangle_count, parts, [&](unsigned, std::size_t b, std::size_t e) {

@@ -29,7 +29,7 @@ struct BvhBuildOptions : BvhOptions {
     /// it (bvh_instances.cpp).
     bool full_leaves = false;
     /// false: build_bvh leaves Bvh::tris empty and gives the leaf slots' triangle ids in
-    /// Bvh::ids instead (4 bytes a triangle, not 48), freeing its build scratch before the
+    /// Bvh::ids instead (4 bytes a triangle, not 40), freeing its build scratch before the
     /// collapse; the caller gathers the slots where it needs them (gather_bvh_tris), e.g. straight
     /// into a device buffer a block at a time (ray_pipeline.cpp, issue 37's memory).
     bool gather = true;

@@ -21,7 +21,7 @@ namespace clvis::detail {
 
 static_assert(sizeof(clvis_bvh_node) == 32, "layout shared with kernels/shared/bvh.h");
 static_assert(sizeof(clvis_bvh4_node) == 128, "layout shared with kernels/shared/bvh.h");
-static_assert(sizeof(clvis_bvh_tri) == 48, "layout shared with kernels/shared/bvh.h");
+static_assert(sizeof(clvis_bvh_tri) == 40, "layout shared with kernels/shared/bvh.h");
 static_assert(sizeof(clvis_instance) == 56, "layout shared with kernels/shared/instance.h");
 
 namespace {
@@ -41,7 +41,7 @@ constexpr std::array<std::array<std::size_t, 2>, 5> group_choices{{{4, 4}, {4, 2
 /// cap it.
 constexpr std::size_t single_group_items = 64;
 
-/// Leaf triangles gathered per write of the flat tree's upload (3 MB of host staging).
+/// Leaf triangles gathered per write of the flat tree's upload (2.5 MB of host staging).
 constexpr std::size_t tri_block = std::size_t(1) << 16;
 
 /// The build option that selects the coverage mode of ray_trace.cl and ray_brute.cl.
@@ -200,7 +200,7 @@ struct RayPipeline::Impl {
     }
 
     /// Gathers the leaf triangles of bvh.ids from `world` straight into `tris`, a block at a time:
-    /// no host copy of all of them (48 bytes a triangle) beside the device's.
+    /// no host copy of all of them (40 bytes a triangle) beside the device's.
     void put_tris(const WorldMesh& world, cl::CommandQueue& queue)
     {
         const std::vector<std::uint32_t>& ids = bvh.ids;

@@ -24,14 +24,14 @@ typedef struct clvis_bvh4_node {
     clvis_u32 count[4];       /* 0: child is a node; > 0: a leaf of that many triangles */
 } clvis_bvh4_node;
 
-/* One triangle of a leaf: its vertices as in the scene (v0, v1, v2 in index order), its id. */
+/* One triangle of a leaf: its vertices as in the scene (v0, v1, v2 in index order), its id. 40
+   bytes, no padding (issue 37's memory): a triangle is only 4-byte aligned, so it is read field
+   by field, never through a float4 (or a vload4 that assumes 16-byte alignment). */
 typedef struct clvis_bvh_tri {
     float v0_x, v0_y, v0_z;
     clvis_u32 id;             /* triangle id (CONVENTIONS.md) */
     float v1_x, v1_y, v1_z;
-    clvis_u32 pad0;
     float v2_x, v2_y, v2_z;
-    clvis_u32 pad1;
 } clvis_bvh_tri;
 
 #endif
