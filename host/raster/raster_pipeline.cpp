@@ -50,13 +50,14 @@ void RasterPipeline::Impl::zero_words(Frame& frame, cl::Buffer& buffer, std::siz
 
 void RasterPipeline::Impl::clear_frame(Frame& frame)
 {
-    cl_ulong count = cl_ulong((std::size_t(frame.width) * std::size_t(frame.height)) << frame.gpu_camera.sample_log2) *
-                     cl_ulong(frame.layers);
+    cl_ulong pixels = cl_ulong(frame.width) * cl_ulong(frame.height);
+    cl_ulong count = (pixels << frame.gpu_camera.sample_log2) * cl_ulong(frame.layers);
     clear.setArg(0, frame.keys);
     clear.setArg(1, count);
     clear.setArg(2, cl_int(count * sizeof(cl_ulong) >= stream_bytes)); // past the cache (raster_stream.h)
+    std::size_t items = std::size_t((count + CLVIS_CLEAR_RUN - 1) / CLVIS_CLEAR_RUN);
     cl::Event done;
-    frame.queue.enqueueNDRangeKernel(clear, cl::NullRange, cl::NDRange(round_up((count + CLVIS_CLEAR_RUN - 1) / CLVIS_CLEAR_RUN, clear_group)),
+    frame.queue.enqueueNDRangeKernel(clear, cl::NullRange, cl::NDRange(round_up(items, clear_group)),
                                      cl::NDRange(clear_group), nullptr, &done);
     frame.stages->add("clear", done);
 }
