@@ -118,6 +118,7 @@ std::string command_line(const BenchConfig& config)
     if (config.passes > 1) c += " --repeat " + std::to_string(config.passes);
     if (config.ref_threads != 2) c += " --ref-threads " + std::to_string(config.ref_threads);
     if (config.no_plot) c += " --no-plot";
+    for (std::size_t i = 0; i < config.only.size(); ++i) c += (i == 0 ? " --only " : ",") + config.only[i];
     return c;
 }
 
@@ -139,6 +140,17 @@ void run_bench(const BenchConfig& config, const std::function<Device()>& open_de
 
     const Machine machine = read_machine();
     std::vector<Workload> workloads = plan(config.quick);
+    if (!config.only.empty()) {
+        for (const auto& name : config.only)
+            if (std::none_of(workloads.begin(), workloads.end(), [&](const Workload& w) { return w.mesh == name; }))
+                throw Error(Error::Kind::InvalidArgument, "--only: no workload '" + name + "' in the sweep");
+        workloads.erase(std::remove_if(workloads.begin(), workloads.end(),
+                                       [&](const Workload& w) {
+                                           return std::find(config.only.begin(), config.only.end(), w.mesh) ==
+                                                  config.only.end();
+                                       }),
+                        workloads.end());
+    }
     std::size_t total = 0;
     for (const auto& w : workloads) total += w.views.size();
     Progress progress(total * std::size_t(config.passes));

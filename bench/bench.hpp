@@ -10,6 +10,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace clvis::bench {
 
@@ -22,6 +23,7 @@ struct BenchConfig {
     bool no_plot = false;
     int views = 0;       ///< --views N: > 0 runs the multi-view workload (run_views_bench) instead
     int view_size = 256; ///< --view-size: the views' width and height
+    std::vector<std::string> only; ///< --only: the sweep's workloads of these names only (empty: all)
 };
 
 /// The stopping rule of a run: exactly config.frames frames, or until each median is known to

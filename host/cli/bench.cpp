@@ -41,6 +41,9 @@ void add_bench_command(CLI::App& app)
         ->check(CLI::Range(1, 1000));
     cmd->add_option("--ref-threads", c.ref_threads, "threads of the reference renderers (default 2)")
         ->check(CLI::Range(1, 1024));
+    cmd->add_option("--only", c.only,
+                    "the sweep's workloads of these names only, e.g. sphere-1k,suzanne (with --quick: of its sweep)")
+        ->delimiter(',');
     cmd->add_flag("--no-plot", c.no_plot, "skip the plots (bench/plot.py, matplotlib)");
     cmd->add_flag("--rays", args->rays,
                   "the ray-query workloads instead: ambient occlusion rays (bunny, 1M sphere) and random rays "

@@ -15,6 +15,8 @@
 // This file enqueues; raster_sizing.cpp sizes groups and buffers (the state: raster_pipeline_impl.hpp).
 #include "raster/raster_pipeline_impl.hpp"
 
+#include "shared/raster_stream.h"
+
 #include <clvis/error.hpp>
 
 #include <algorithm>
@@ -44,6 +46,20 @@ void RasterPipeline::Impl::zero_words(Frame& frame, cl::Buffer& buffer, std::siz
     frame.queue.enqueueNDRangeKernel(zero, cl::NullRange, cl::NDRange(round_up(count, zero_group)),
                                      cl::NDRange(zero_group), nullptr, &done);
     frame.stages->add(stage, done);
+}
+
+void RasterPipeline::Impl::clear_frame(Frame& frame)
+{
+    cl_ulong pixels = cl_ulong(frame.width) * cl_ulong(frame.height);
+    cl_ulong count = (pixels << frame.gpu_camera.sample_log2) * cl_ulong(frame.layers);
+    clear.setArg(0, frame.keys);
+    clear.setArg(1, count);
+    clear.setArg(2, cl_int(count * sizeof(cl_ulong) >= stream_bytes)); // past the cache (raster_stream.h)
+    std::size_t items = std::size_t((count + CLVIS_CLEAR_RUN - 1) / CLVIS_CLEAR_RUN);
+    cl::Event done;
+    frame.queue.enqueueNDRangeKernel(clear, cl::NullRange, cl::NDRange(round_up(items, clear_group)),
+                                     cl::NDRange(clear_group), nullptr, &done);
+    frame.stages->add("clear", done);
 }
 
 RasterCounts RasterPipeline::Impl::read_counts(Frame& frame)
@@ -135,7 +151,7 @@ cl_uint RasterPipeline::Impl::set_item_args(cl::Kernel& k, const InstancedScene&
 
 void RasterPipeline::Impl::render_items(const InstancedScene& scene, Frame& frame, std::size_t chunk_triangles)
 {
-    clear_keys(clear, frame);
+    clear_frame(frame);
     int samples = 1 << frame.gpu_camera.sample_log2;
     for (const ItemChunk& c : scene.chunks(chunk_triangles)) {
         reserve(projected, projected_capacity, c.vertex_count, sizeof(clvis_raster_projected), 1,
@@ -168,7 +184,7 @@ void RasterPipeline::Impl::render(const DeviceScene& scene, Frame& frame)
 {
     if (scene.triangle_count == 0) {
         prepare_frame(frame);
-        clear_keys(clear, frame);
+        clear_frame(frame);
         return;
     }
     // Buffers whose size the frame fixes are made before anything is enqueued.
@@ -177,7 +193,7 @@ void RasterPipeline::Impl::render(const DeviceScene& scene, Frame& frame)
     prepare_frame(frame);
     // Tile ownership writes every key of the sample in raster_fine.cl: no clear.
     int samples = 1 << frame.gpu_camera.sample_log2;
-    if (!owned) clear_keys(clear, frame);
+    if (!owned) clear_frame(frame);
     // One pass per sample (shared/samples.h): setup moves the snapped vertices by minus the
     // sample's offset, and every stage after it is the one-sample path's.
     for (int sample = 0; sample < samples; ++sample) {
@@ -261,7 +277,10 @@ RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& option
                         device.info.name + " does not offer; use raster atomics 'auto' or 'off' (tile ownership)");
     Impl& m = *impl_;
     try {
-        m.clear = make_clear_kernel(device);
+        // The clear of the atomic depth test: a cache line per work-item, streamed past the cache
+        // on PoCL's CPU device (kernels/visibility_clear.cl).
+        m.clear = cl::Kernel(device.program("visibility_clear", device.cpu_hints() ? "-DCLVIS_STREAM=1" : ""),
+                             "visibility_clear_lines");
         // Depth layers (RenderOptions::layers, shared/layers.h): compiled in only for K > 1.
         std::string layers = options.layers > 1 ? "-DCLVIS_LAYERS=" + std::to_string(options.layers) : "";
         auto with_layers = [&](std::string define) {

@@ -44,7 +44,10 @@ struct RasterPipeline::Impl {
     std::uint32_t fine_chunk = 0xFFFFFFFFu; ///< bin entries per launch of raster_fine.cl
     cl::Kernel clear, zero, vertices, setup, bin_count, bin_scan, bin_fill, fine;
     cl::Kernel item_vertices, item_setup; ///< the same two stages for a chunk of items
-    std::size_t zero_group = 1, vertex_group = 1, setup_group = 1, bin_group = 1, scan_items = 1;
+    /// Clears of at least this many bytes stream their lines past the cache (visibility_clear_lines):
+    /// a quarter of the device's global memory cache, or 4 MiB where it reports none.
+    std::uint64_t stream_bytes = std::uint64_t(4) << 20;
+    std::size_t clear_group = 1, zero_group = 1, vertex_group = 1, setup_group = 1, bin_group = 1, scan_items = 1;
     cl::NDRange fine_group;
     cl::Buffer counters; ///< uint[2] triangles listed by setup (low, high word), ulong bin entries, ulong longest bin
     cl::Buffer projected, tris, entries, tile_counts, offsets, cursors;
@@ -86,6 +89,8 @@ struct RasterPipeline::Impl {
     void prepare_frame(Frame& frame);
 
     // Launches (raster_pipeline.cpp).
+    /// Writes the background into every key of the frame (every sample and layer): visibility_clear_lines.
+    void clear_frame(Frame& frame);
     /// Zeroes the first `count` 32-bit words of `buffer` (a kernel: Oclgrind then sees them written).
     void zero_words(Frame& frame, cl::Buffer& buffer, std::size_t count, const char* stage);
     /// The counters once the sample's stages ran (the one blocking read-back of a sample).

@@ -52,6 +52,8 @@ void set_raster_first_capacities(std::size_t triangles, std::size_t entries)
 
 void RasterPipeline::Impl::pick_groups()
 {
+    clear_group = std::min(linear_group, floor_pow2(granted(clear)));
+    if (cl_ulong cache = device.device.getInfo<CL_DEVICE_GLOBAL_MEM_CACHE_SIZE>(); cache > 0) stream_bytes = cache / 4;
     zero_group = std::min(linear_group, floor_pow2(granted(zero)));
     vertex_group = std::min({linear_group, floor_pow2(granted(vertices)), floor_pow2(granted(item_vertices))});
     setup_group = std::min({linear_group, floor_pow2(granted(setup)), floor_pow2(granted(item_setup))});
