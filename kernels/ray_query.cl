@@ -198,18 +198,33 @@ static float query_far(clvis_ray_rec r, const answer* a)
 }
 
 /* Tests the n triangles of a leaf from `first`, those of instance xi (none: world-space already).
-   The flat tree's leaves test four triangles at once (shared/tri4.h) and the scalar test redoes
-   only the lanes that need its fallbacks; every query's answer is order-independent (closest: the
-   least (t, id); all: the K least, inserted in order), so it is the triangle-by-triangle one. */
-#ifdef CLVIS_INSTANCES
+   Any hit and counts on the flat tree test four triangles at once (shared/tri4.h), the scalar
+   test redoing only the lanes that need its fallbacks: their answers (whether any triangle is hit,
+   how many are) do not depend on the order. Closest and all hits keep the scalar loop, which
+   measured as fast (docs/architecture.md). */
+#if !defined(CLVIS_INSTANCES) && (CLVIS_QUERY == CLVIS_QUERY_ANY || CLVIS_QUERY == CLVIS_QUERY_COUNT)
 static int leaf(__global const clvis_bvh_tri* tris, uint first, uint n, __global const clvis_instance* xi,
                 clvis_ray_shear s, clvis_ray_rec r, answer* a)
 {
-    for (uint k = first; k < first + n; ++k) {
-        float v[9];
-        uint id = clvis_instance_triangle(tris + k, xi, v);
-        clvis_vec3 v0 = {v[0], v[1], v[2]}, v1 = {v[3], v[4], v[5]}, v2 = {v[6], v[7], v[8]};
-        if (test_triangle(s, v0, v1, v2, id, r.tmin, query_far(r, a), a)) return 1;
+    (void)xi;
+    for (uint g = first; g < first + n; g += 4u) {
+        clvis_tri4 q;
+        clvis_leaf_tri4(s, tris, g, first + n - g, r.tmin, r.tmax, &q);
+#if CLVIS_QUERY == CLVIS_QUERY_ANY
+        if (q.hits) {
+            a->id = 1u;
+            return 1;
+        }
+#else
+        a->count += (uint)popcount(q.hits);
+#endif
+        for (int k = 0; q.redo >> k; ++k) {
+            if (!(q.redo & (1 << k))) continue;
+            __global const clvis_bvh_tri* tr = tris + g + (uint)k;
+            clvis_vec3 v0 = {tr->v0_x, tr->v0_y, tr->v0_z}, v1 = {tr->v1_x, tr->v1_y, tr->v1_z};
+            clvis_vec3 v2 = {tr->v2_x, tr->v2_y, tr->v2_z};
+            if (test_triangle(s, v0, v1, v2, tr->id, r.tmin, r.tmax, a)) return 1;
+        }
     }
     return 0;
 }
@@ -217,50 +232,19 @@ static int leaf(__global const clvis_bvh_tri* tris, uint first, uint n, __global
 static int leaf(__global const clvis_bvh_tri* tris, uint first, uint n, __global const clvis_instance* xi,
                 clvis_ray_shear s, clvis_ray_rec r, answer* a)
 {
-    (void)xi;
-    for (uint g = first; g < first + n; g += 4u) {
-        clvis_tri4 q;
-        clvis_leaf_tri4(s, tris, g, first + n - g, r.tmin, query_far(r, a), &q);
-#if CLVIS_QUERY == CLVIS_QUERY_ANY
-        if (q.hits) {
-            a->id = 1u;
-            return 1;
-        }
-#elif CLVIS_QUERY == CLVIS_QUERY_COUNT
-        a->count += (uint)popcount(q.hits);
+    for (uint k = first; k < first + n; ++k) {
+        __global const clvis_bvh_tri* tr = tris + k;
+#ifdef CLVIS_INSTANCES
+        float v[9];
+        uint id = clvis_instance_triangle(tr, xi, v);
+        clvis_vec3 v0 = {v[0], v[1], v[2]}, v1 = {v[3], v[4], v[5]}, v2 = {v[6], v[7], v[8]};
+        if (test_triangle(s, v0, v1, v2, id, r.tmin, query_far(r, a), a)) return 1;
 #else
-        if (q.hits) {
-            float t[4], v[4], w[4], det[4];
-            uint id[4];
-            vstore4(q.t, 0, t), vstore4(q.v, 0, v), vstore4(q.w, 0, w), vstore4(q.det, 0, det);
-            vstore4(q.id, 0, id);
-            for (int k = 0; k < 4; ++k) {
-                if (!(q.hits & (1 << k))) continue;
-                float tk = t[k] + 0.0f; /* -0 becomes +0: the key orders by bits */
-#if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
-                if (tk < a->t || (tk == a->t && id[k] < a->id)) {
-                    a->t = tk;
-                    a->id = id[k];
-                    a->u = v[k] / det[k];
-                    a->v = w[k] / det[k];
-                }
-#else
-                clvis_tri_2d p;
-                p.v = v[k];
-                p.w = w[k];
-                a->count += 1u;
-                insert_hit(a, tk, id[k], p, det[k]);
+        (void)xi;
+        clvis_vec3 v0 = {tr->v0_x, tr->v0_y, tr->v0_z}, v1 = {tr->v1_x, tr->v1_y, tr->v1_z};
+        clvis_vec3 v2 = {tr->v2_x, tr->v2_y, tr->v2_z};
+        if (test_triangle(s, v0, v1, v2, tr->id, r.tmin, query_far(r, a), a)) return 1;
 #endif
-            }
-        }
-#endif
-        for (int k = 0; q.redo >> k; ++k) {
-            if (!(q.redo & (1 << k))) continue;
-            __global const clvis_bvh_tri* tr = tris + g + (uint)k;
-            clvis_vec3 v0 = {tr->v0_x, tr->v0_y, tr->v0_z}, v1 = {tr->v1_x, tr->v1_y, tr->v1_z};
-            clvis_vec3 v2 = {tr->v2_x, tr->v2_y, tr->v2_z};
-            if (test_triangle(s, v0, v1, v2, tr->id, r.tmin, query_far(r, a), a)) return 1;
-        }
     }
     return 0;
 }

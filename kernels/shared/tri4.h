@@ -13,12 +13,9 @@
 #include "shared/bvh.h"
 #include "shared/ray.h"
 
-/* Four triangles against one ray: per lane the edge functions v (c->a) and w (a->b), det and the
-   ray parameter t, the triangle's id, and as bit masks (bit k: lane k) the lanes hit without a
-   fallback and the lanes that need the scalar test. */
+/* Four triangles against one ray, as bit masks (bit k: lane k): the lanes hit without a fallback
+   and the lanes that need the scalar test. */
 typedef struct clvis_tri4 {
-    float4 v, w, det, t;
-    uint4 id;
     int hits, redo;
 } clvis_tri4;
 
@@ -57,9 +54,8 @@ static inline CLVIS_ALWAYS_INLINE int4 clvis_ray_trusted4(float4 Ax, float4 Ay, 
 
 /* Tests triangles tris[g .. g + m - 1] (m from 1 to 4; the lanes past m read tris[g] again and
    are masked off) against the ray s in [near_t, far_t], edges inclusive, both sides. A lane in
-   `hits` is a hit of clvis_intersect_triangle (and of clvis_intersect_triangle_plane, whose
-   barycentrics are v / det and w / det, and of clvis_intersect_triangle_half_open); a lane in
-   `redo` is undecided. Fields are read by name (the triangle record's layout may change). The
+   `hits` is a hit of clvis_intersect_triangle with CLVIS_CULL_NONE (and of
+   clvis_intersect_triangle_half_open); a lane in `redo` is undecided, and in neither a miss. Fields are read by name (the triangle record's layout may change). The
    result goes out by pointer (a returned struct: see clvis_project_triangle). */
 static inline CLVIS_ALWAYS_INLINE void clvis_leaf_tri4(clvis_ray_shear s, __global const clvis_bvh_tri* tris, uint g,
                                                        uint m, float near_t, float far_t, clvis_tri4* out)
@@ -79,7 +75,6 @@ static inline CLVIS_ALWAYS_INLINE void clvis_leaf_tri4(clvis_ray_shear s, __glob
     float4 Cx = (float4)(t0->v2_x, t1->v2_x, t2->v2_x, t3->v2_x) * 1.0f - ox;
     float4 Cy = (float4)(t0->v2_y, t1->v2_y, t2->v2_y, t3->v2_y) * 1.0f - oy;
     float4 Cz = (float4)(t0->v2_z, t1->v2_z, t2->v2_z, t3->v2_z) * 1.0f - oz;
-    out->id = (uint4)(t0->id, t1->id, t2->id, t3->id);
     float4 akz = clvis_pick4(s.kz, Ax, Ay, Az), bkz = clvis_pick4(s.kz, Bx, By, Bz);
     float4 ckz = clvis_pick4(s.kz, Cx, Cy, Cz);
     float4 ax = clvis_pick4(s.kx, Ax, Ay, Az) - s.sx * akz;
@@ -99,10 +94,6 @@ static inline CLVIS_ALWAYS_INLINE void clvis_leaf_tri4(clvis_ray_shear s, __glob
                   clvis_ray_trusted4(Ax, Ay, Az, Bx, By, Bz, Cx, Cy, Cz) & clvis_finite4(det) & clvis_finite4(tz);
     int4 inside = ((u >= 0.0f) & (v >= 0.0f) & (w >= 0.0f)) | ((u <= 0.0f) & (v <= 0.0f) & (w <= 0.0f));
     int4 hit = simple & inside & (det != 0.0f) & (t >= near_t) & (t <= far_t);
-    out->v = v;
-    out->w = w;
-    out->det = det;
-    out->t = t;
     out->hits = clvis_mask4(hit);
     out->redo = clvis_mask4(active) & ~clvis_mask4(simple);
 }
