@@ -348,6 +348,7 @@ static inline CLVIS_ALWAYS_INLINE int query_children(walker* w, __global const c
 }
 
 #define CLVIS_WALK_CTX walker
+#define CLVIS_WALK_SORTED 1 /* incoherent rays: the children's order branch-free (shared/bvh_walk.h) */
 #define CLVIS_WALK_CHILDREN(w, v, nd, xi, keys) query_children(w, nd, xi, keys)
 #if QUERY_PRUNES
 #define CLVIS_WALK_KEY_SKIP(w, v, key) ((key) > query_far((w)->r, &(w)->a) * CLVIS_IZE_SCALE)

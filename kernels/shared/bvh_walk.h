@@ -11,7 +11,9 @@
      CLVIS_WALK_BOX_SKIP(ctx, v, nd, k, xi)     a popped child is dropped (its box tested again)
      CLVIS_WALK_LEAF(ctx, v, tris, first, count, xi)  the leaf test of triangles tris[first ..
                                                 first + count - 1]; nonzero ends the walk (any hit)
-   and CLVIS_RAY_STACK (entries: each visit pushes at most 3, a top-level leaf at most 3 more). `v`
+   and CLVIS_RAY_STACK (entries: each visit pushes at most 3, a top-level leaf at most 3 more);
+   optionally CLVIS_WALK_SORTED, which orders a node's children without branches (pays for
+   incoherent single rays, ray_query.cl; costs coherent packets, whose branches predict well). `v`
    is clvis_walk_step's `variant`, a constant the kernel picks its tests by (ray_trace.cl walks
    a packet two ways); `two_level` (a constant too) compiles the instance handling in or out.
    Always inlined with constant arguments, so each kernel gets its own walk's code. */
@@ -115,15 +117,19 @@ static inline CLVIS_ALWAYS_INLINE void clvis_walk_step(CLVIS_WALK_CTX* ctx, cons
     (void)variant; /* for the parameters that ignore it */
     CLVIS_GLOBAL const clvis_bvh4_node* nd = nodes + w->node;
     CLVIS_GLOBAL const clvis_instance* xi = two_level ? w->xi : 0;
+#ifdef CLVIS_WALK_SORTED
     float keys[4] = {0.0f, 0.0f, 0.0f, 0.0f}; /* a missed child's key is read (and sorted last) */
+#else
+    float keys[4];
+#endif
     int bits = CLVIS_WALK_CHILDREN(ctx, variant, nd, xi, keys);
-    /* The nearest child met (by key) is visited next without a trip through the stack; the others
-       are pushed far to near, so that the nearest pops first. Branch-free (the children met and
-       their order are data the branch predictor cannot learn): the four slots sorted by (missed,
-       key) with a sorting network, so the n children met come first, nearest first (equal keys
-       in any order: the walk's order never changes an answer); the nearest is taken, the next
-       n - 1 written to the stack unconditionally and counted. Prefetches (CLVIS_PREFETCH) go to
-       every child met (to the node itself for the others: already cached). */
+#ifdef CLVIS_WALK_SORTED
+    /* CLVIS_WALK_SORTED: the same order without branches (which children a ray meets, and in
+       what order, is data the branch predictor cannot learn for incoherent rays): the four slots
+       sorted by (missed, key) with a sorting network, so the n children met come first, nearest
+       first (equal keys in any order: the walk's order never changes an answer); the nearest is
+       taken, the next n - 1 written to the stack unconditionally and counted. Prefetches
+       (CLVIS_PREFETCH) go to every child met, to the node itself (cached) for the others. */
     int prefetch = !two_level || w->inst != CLVIS_INST_TOP; /* a top-level leaf lists instances */
     clvis_u32 base = w->sp, sp = w->sp;
 #ifdef CLVIS_PREFETCH
@@ -177,6 +183,42 @@ static inline CLVIS_ALWAYS_INLINE void clvis_walk_step(CLVIS_WALK_CTX* ctx, cons
     /* n - 1 pushes (none for n = 0), from a table of 2 bits per mask: the select form compiles
        to llvm.usub.sat, which Oclgrind 21.10 cannot run */
     sp += (0xE9949440u >> (2 * bits)) & 3u;
+#else
+    /* The nearest child met (by key; the first slot among equals) is visited next without a trip
+       through the stack; the others are pushed far to near, so that the nearest pops first. The
+       loop is unrolled, so that keys and the child at hand stay in registers. */
+    int prefetch = !two_level || w->inst != CLVIS_INST_TOP; /* a top-level leaf lists instances */
+    clvis_u32 base = w->sp, sp = w->sp;
+    int k = -1;
+    float key = 0.0f;
+#ifdef __OPENCL_C_VERSION__
+#pragma unroll
+#endif
+    for (int c = 0; c < 4; ++c) {
+        if (!(bits & (1 << c))) continue;
+        if (prefetch) clvis_prefetch_child(nodes, tris, nd, c);
+        if (k < 0) {
+            k = c;
+            key = keys[c];
+            continue;
+        }
+        int push = c;
+        float push_key = keys[c];
+        if (push_key < key) {
+            push = k;
+            push_key = key;
+            k = c;
+            key = keys[c];
+        }
+        clvis_u32 i = sp++;
+        for (; i > base && st->key[i - 1] < push_key; --i) {
+            st->entry[i] = st->entry[i - 1];
+            st->key[i] = st->key[i - 1];
+        }
+        st->entry[i] = CLVIS_WALK_ENTRY(nd - nodes, push);
+        st->key[i] = push_key;
+    }
+#endif
     if (two_level)
         for (clvis_u32 i = base; i < sp; ++i) st->inst[i] = w->inst; /* all of this node */
     w->node = CLVIS_WALK_DONE;
