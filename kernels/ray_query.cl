@@ -17,7 +17,6 @@
 #include "shared/instance.h"
 #include "shared/ray.h"
 #include "shared/ray_query.h"
-#include "shared/tri4.h"
 #include "shared/visibility.h"
 
 #ifndef CLVIS_QUERY
@@ -197,38 +196,7 @@ static float query_far(clvis_ray_rec r, const answer* a)
 #endif
 }
 
-/* Tests the n triangles of a leaf from `first`, those of instance xi (none: world-space already).
-   Any hit and counts on the flat tree test four triangles at once (shared/tri4.h), the scalar
-   test redoing only the lanes that need its fallbacks: their answers (whether any triangle is hit,
-   how many are) do not depend on the order. Closest and all hits keep the scalar loop, which
-   measured as fast (docs/architecture.md). */
-#if !defined(CLVIS_INSTANCES) && (CLVIS_QUERY == CLVIS_QUERY_ANY || CLVIS_QUERY == CLVIS_QUERY_COUNT)
-static int leaf(__global const clvis_bvh_tri* tris, uint first, uint n, __global const clvis_instance* xi,
-                clvis_ray_shear s, clvis_ray_rec r, answer* a)
-{
-    (void)xi;
-    for (uint g = first; g < first + n; g += 4u) {
-        clvis_tri4 q;
-        clvis_leaf_tri4(s, tris, g, first + n - g, r.tmin, r.tmax, &q);
-#if CLVIS_QUERY == CLVIS_QUERY_ANY
-        if (q.hits) {
-            a->id = 1u;
-            return 1;
-        }
-#else
-        a->count += (uint)popcount(q.hits);
-#endif
-        for (int k = 0; q.redo >> k; ++k) {
-            if (!(q.redo & (1 << k))) continue;
-            __global const clvis_bvh_tri* tr = tris + g + (uint)k;
-            clvis_vec3 v0 = {tr->v0_x, tr->v0_y, tr->v0_z}, v1 = {tr->v1_x, tr->v1_y, tr->v1_z};
-            clvis_vec3 v2 = {tr->v2_x, tr->v2_y, tr->v2_z};
-            if (test_triangle(s, v0, v1, v2, tr->id, r.tmin, r.tmax, a)) return 1;
-        }
-    }
-    return 0;
-}
-#else
+/* Tests the n triangles of a leaf from `first`, those of instance xi (none: world-space already). */
 static int leaf(__global const clvis_bvh_tri* tris, uint first, uint n, __global const clvis_instance* xi,
                 clvis_ray_shear s, clvis_ray_rec r, answer* a)
 {
@@ -240,7 +208,6 @@ static int leaf(__global const clvis_bvh_tri* tris, uint first, uint n, __global
         clvis_vec3 v0 = {v[0], v[1], v[2]}, v1 = {v[3], v[4], v[5]}, v2 = {v[6], v[7], v[8]};
         if (test_triangle(s, v0, v1, v2, id, r.tmin, query_far(r, a), a)) return 1;
 #else
-        (void)xi;
         clvis_vec3 v0 = {tr->v0_x, tr->v0_y, tr->v0_z}, v1 = {tr->v1_x, tr->v1_y, tr->v1_z};
         clvis_vec3 v2 = {tr->v2_x, tr->v2_y, tr->v2_z};
         if (test_triangle(s, v0, v1, v2, tr->id, r.tmin, query_far(r, a), a)) return 1;
@@ -248,7 +215,6 @@ static int leaf(__global const clvis_bvh_tri* tris, uint first, uint n, __global
     }
     return 0;
 }
-#endif
 
 #ifdef CLVIS_INSTANCES
 /* The world boxes of node n's four children in transformed instance xi, as the node stores them:
@@ -348,7 +314,6 @@ static inline CLVIS_ALWAYS_INLINE int query_children(walker* w, __global const c
 }
 
 #define CLVIS_WALK_CTX walker
-#define CLVIS_WALK_SORTED 1 /* incoherent rays: the children's order branch-free (shared/bvh_walk.h) */
 #define CLVIS_WALK_CHILDREN(w, v, nd, xi, keys) query_children(w, nd, xi, keys)
 #if QUERY_PRUNES
 #define CLVIS_WALK_KEY_SKIP(w, v, key) ((key) > query_far((w)->r, &(w)->a) * CLVIS_IZE_SCALE)

@@ -1,8 +1,9 @@
-// Ray queries whose rays start on the surface (ambient-occlusion and shadow rays): the walk's
-// leaves test four triangles at once for any hit and counts (kernels/shared/tri4.h), and the
-// triangle a ray starts on and its neighbours fail the float test's trust check, so the scalar
-// test redoes those lanes. Leaves of 4, 5 (a group of four and one of one), 16 and 64 triangles;
-// every answer of the BVH walk equals brute force bit for bit.
+// Ray queries whose rays start on the surface (ambient-occlusion and shadow rays): the triangle a
+// ray starts on and its neighbours fail the float test's trust check (clvis_ray_trusted), so leaves
+// mix triangles of the float test and of the wide one, and rays start on vertices and edges shared
+// by several triangles. Leaves of 4, 5 (one more than a group of four), 16 and 64 triangles; every
+// answer of the BVH walk equals brute force bit for bit (a leaf test that skips the wide path's
+// triangles fails here: checked with a four-lane leaf test that dropped them).
 #include "catch.hpp"
 #include "ray_query_check.hpp"
 

@@ -11,9 +11,7 @@
      CLVIS_WALK_BOX_SKIP(ctx, v, nd, k, xi)     a popped child is dropped (its box tested again)
      CLVIS_WALK_LEAF(ctx, v, tris, first, count, xi)  the leaf test of triangles tris[first ..
                                                 first + count - 1]; nonzero ends the walk (any hit)
-   and CLVIS_RAY_STACK (entries: each visit pushes at most 3, a top-level leaf at most 3 more);
-   optionally CLVIS_WALK_SORTED, which orders a node's children without branches (pays for
-   incoherent single rays, ray_query.cl; costs coherent packets, whose branches predict well). `v`
+   and CLVIS_RAY_STACK (entries: each visit pushes at most 3, a top-level leaf at most 3 more). `v`
    is clvis_walk_step's `variant`, a constant the kernel picks its tests by (ray_trace.cl walks
    a packet two ways); `two_level` (a constant too) compiles the instance handling in or out.
    Always inlined with constant arguments, so each kernel gets its own walk's code. */
@@ -117,73 +115,8 @@ static inline CLVIS_ALWAYS_INLINE void clvis_walk_step(CLVIS_WALK_CTX* ctx, cons
     (void)variant; /* for the parameters that ignore it */
     CLVIS_GLOBAL const clvis_bvh4_node* nd = nodes + w->node;
     CLVIS_GLOBAL const clvis_instance* xi = two_level ? w->xi : 0;
-#ifdef CLVIS_WALK_SORTED
-    float keys[4] = {0.0f, 0.0f, 0.0f, 0.0f}; /* a missed child's key is read (and sorted last) */
-#else
     float keys[4];
-#endif
     int bits = CLVIS_WALK_CHILDREN(ctx, variant, nd, xi, keys);
-#ifdef CLVIS_WALK_SORTED
-    /* CLVIS_WALK_SORTED: the same order without branches (which children a ray meets, and in
-       what order, is data the branch predictor cannot learn for incoherent rays): the four slots
-       sorted by (missed, key) with a sorting network, so the n children met come first, nearest
-       first (equal keys in any order: the walk's order never changes an answer); the nearest is
-       taken, the next n - 1 written to the stack unconditionally and counted. Prefetches
-       (CLVIS_PREFETCH) go to every child met, to the node itself (cached) for the others. */
-    int prefetch = !two_level || w->inst != CLVIS_INST_TOP; /* a top-level leaf lists instances */
-    clvis_u32 base = w->sp, sp = w->sp;
-#ifdef CLVIS_PREFETCH
-#ifdef __OPENCL_C_VERSION__
-#pragma unroll
-#endif
-    for (int c = 0; c < 4; ++c) {
-        CLVIS_GLOBAL const char* p = nd->count[c] == 0 ? (CLVIS_GLOBAL const char*)(nodes + nd->child[c])
-                                                       : (CLVIS_GLOBAL const char*)(tris + nd->child[c]);
-        p = prefetch && (bits & (1 << c)) ? p : (CLVIS_GLOBAL const char*)nd;
-        CLVIS_PREFETCH_LINE(p);
-        CLVIS_PREFETCH_LINE(p + 64);
-    }
-#else
-    (void)prefetch;
-#endif
-    float k0 = keys[0], k1 = keys[1], k2 = keys[2], k3 = keys[3];
-    int m0 = !(bits & 1), m1 = !(bits & 2), m2 = !(bits & 4), m3 = !(bits & 8); /* missed */
-    int s0 = 0, s1 = 1, s2 = 2, s3 = 3;
-#define CLVIS_WALK_SORT2(ka, ma, sa, kb, mb, sb)                                                      \
-    {                                                                                              \
-        int sw = (ma > mb) | ((ma == mb) & (kb < ka));                                             \
-        float tk = sw ? kb : ka;                                                                   \
-        int tm = sw ? mb : ma, ts = sw ? sb : sa;                                                  \
-        kb = sw ? ka : kb, mb = sw ? ma : mb, sb = sw ? sa : sb;                                   \
-        ka = tk, ma = tm, sa = ts;                                                                 \
-    }
-    CLVIS_WALK_SORT2(k0, m0, s0, k1, m1, s1)
-    CLVIS_WALK_SORT2(k2, m2, s2, k3, m3, s3)
-    CLVIS_WALK_SORT2(k0, m0, s0, k2, m2, s2)
-    CLVIS_WALK_SORT2(k1, m1, s1, k3, m3, s3)
-    CLVIS_WALK_SORT2(k1, m1, s1, k2, m2, s2)
-#undef CLVIS_WALK_SORT2
-    (void)m3;
-    int n = (bits & 1) + ((bits >> 1) & 1) + ((bits >> 2) & 1) + ((bits >> 3) & 1);
-    int k = n > 0 ? s0 : -1;
-    float key = k0;
-    clvis_u32 at = (clvis_u32)(nd - nodes);
-    /* far to near: n = 4 pushes s3 s2 s1, n = 3 s2 s1, n = 2 s1 */
-    int p0 = n == 4 ? s3 : (n == 3 ? s2 : s1), p1 = n == 4 ? s2 : s1;
-    float q0 = n == 4 ? k3 : (n == 3 ? k2 : k1), q1 = n == 4 ? k2 : k1;
-    if (sp + 3u <= (clvis_u32)CLVIS_RAY_STACK) {
-        st->entry[sp] = CLVIS_WALK_ENTRY(at, p0), st->key[sp] = q0;
-        st->entry[sp + 1] = CLVIS_WALK_ENTRY(at, p1), st->key[sp + 1] = q1;
-        st->entry[sp + 2] = CLVIS_WALK_ENTRY(at, s1), st->key[sp + 2] = k1;
-    } else { /* the last entries of the stack (the bound counts only real pushes) */
-        if (n > 1) st->entry[sp] = CLVIS_WALK_ENTRY(at, p0), st->key[sp] = q0;
-        if (n > 2) st->entry[sp + 1] = CLVIS_WALK_ENTRY(at, p1), st->key[sp + 1] = q1;
-        if (n > 3) st->entry[sp + 2] = CLVIS_WALK_ENTRY(at, s1), st->key[sp + 2] = k1;
-    }
-    /* n - 1 pushes (none for n = 0), from a table of 2 bits per mask: the select form compiles
-       to llvm.usub.sat, which Oclgrind 21.10 cannot run */
-    sp += (0xE9949440u >> (2 * bits)) & 3u;
-#else
     /* The nearest child met (by key; the first slot among equals) is visited next without a trip
        through the stack; the others are pushed far to near, so that the nearest pops first. The
        loop is unrolled, so that keys and the child at hand stay in registers. */
@@ -218,7 +151,6 @@ static inline CLVIS_ALWAYS_INLINE void clvis_walk_step(CLVIS_WALK_CTX* ctx, cons
         st->entry[i] = CLVIS_WALK_ENTRY(nd - nodes, push);
         st->key[i] = push_key;
     }
-#endif
     if (two_level)
         for (clvis_u32 i = base; i < sp; ++i) st->inst[i] = w->inst; /* all of this node */
     w->node = CLVIS_WALK_DONE;
