@@ -54,7 +54,7 @@ static void packet_edges_of(const packet* p, lanes_f akx, lanes_f aky, lanes_f a
     lanes_f v = ax * cy - ay * cx;
     lanes_f w = bx * ay - by * ax;
     lanes_i zero = (u == 0.0f) | (v == 0.0f) | (w == 0.0f);
-    if (or_lanes(zero)) {
+    if (any_lane(zero)) {
         packet_edges r;
         r.u = u;
         r.v = v;
@@ -209,7 +209,7 @@ static void packet_test_triangle(const packet* p, const float* vert, uint tri_id
        is varies from triangle to triangle, and the mispredicted branch cost more than the
        division (bunny 256x256: 8% of the frame). A lane outside keeps its key (hit below). */
     lanes_f t = tz / det;
-    if (or_lanes(wide)) { /* rare: through a struct and a copy of t, so that u .. t stay in registers */
+    if (any_lane(wide)) { /* rare: through a struct and a copy of t, so that u .. t stay in registers */
         packet_edges r;
         r.u = u;
         r.v = v;
