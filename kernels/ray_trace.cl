@@ -179,8 +179,8 @@ static inline CLVIS_ALWAYS_INLINE int packet_leaf(packet_walk* c, int variant, _
 #else
 #define CLVIS_WALK_KEY_SKIP(c, v, key) ((v) == WALK_SPAN && !((key) <= (c)->cull_max))
 #endif
-/* popped: no lane's sign bit, no ray can still meet the child */
-#define CLVIS_WALK_BOX_SKIP(c, v, nd, k, xi) (or_lanes(PACKET_HITS_BOX(c, nd, k, xi)) >= 0)
+/* popped: no lane set, no ray can still meet the child */
+#define CLVIS_WALK_BOX_SKIP(c, v, nd, k, xi) (!any_lane(PACKET_HITS_BOX(c, nd, k, xi)))
 #define CLVIS_WALK_LEAF(c, v, tris, first, count, xi) packet_leaf(c, v, tris, first, count, xi)
 #include "shared/bvh_walk.h"
 

@@ -159,7 +159,7 @@ struct RayPipeline::Impl {
                             "mapping 'single' or 'auto'");
         std::string define = join_defines(coverage_define(options.coverage), layers_define(options.layers));
         std::string name = single ? "ray_trace_single" : "ray_trace";
-        if (!single && device.cpu_hints()) define += " -DCLVIS_PREFETCH=1";
+        if (!single && device.cpu_hints()) define += " -DCLVIS_PREFETCH=1 -DCLVIS_REDUCE_OR=1";
         cl::Program program = device.program(name, "-DCLVIS_RAY_STACK=" + std::to_string(stack) +
                                                        (define.empty() ? "" : " " + define));
         trace = cl::Kernel(program, name.c_str());

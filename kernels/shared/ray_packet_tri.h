@@ -35,11 +35,14 @@ static CLVIS_NOINLINE packet_edges packet_exact_edges(packet_edges r, lanes_i ze
 }
 
 /* clvis_ray_edges_of on every lane: the shear, the edge functions (with the exact recompute on
-   the lanes where one rounded to zero: one OR of the lanes decides), det and tz. The result goes
-   out by pointer: inlined at its one call, a returned struct (sret) emits an intrinsic that
-   Oclgrind 21.10 cannot run (clvis_project_triangle, shared/ray.h). */
+   the lanes where one rounded to zero: one OR of the lanes decides), det and tz. The results go
+   out by pointers to the caller's vectors, one each: inlined at its one call, they stay in
+   registers, where a struct written through a pointer (or returned: sret, an intrinsic that
+   Oclgrind 21.10 cannot run, clvis_project_triangle in shared/ray.h) was copied by a call to
+   memcpy per triangle on PoCL. Only the rare fallback fills a struct. */
 static void packet_edges_of(const packet* p, lanes_f akx, lanes_f aky, lanes_f akz, lanes_f bkx, lanes_f bky,
-                            lanes_f bkz, lanes_f ckx, lanes_f cky, lanes_f ckz, packet_edges* out)
+                            lanes_f bkz, lanes_f ckx, lanes_f cky, lanes_f ckz, lanes_f* u_out, lanes_f* v_out,
+                            lanes_f* w_out, lanes_f* det_out, lanes_f* tz_out)
 {
     lanes_f ax = akx - p->sx * akz;
     lanes_f ay = aky - p->sy * akz;
@@ -47,22 +50,32 @@ static void packet_edges_of(const packet* p, lanes_f akx, lanes_f aky, lanes_f a
     lanes_f by = bky - p->sy * bkz;
     lanes_f cx = ckx - p->sx * ckz;
     lanes_f cy = cky - p->sy * ckz;
-    packet_edges r;
-    r.u = cx * by - cy * bx;
-    r.v = ax * cy - ay * cx;
-    r.w = bx * ay - by * ax;
-    lanes_i zero = (r.u == 0.0f) | (r.v == 0.0f) | (r.w == 0.0f);
-    if (or_lanes(zero)) r = packet_exact_edges(r, zero, ax, ay, bx, by, cx, cy);
-    r.det = r.u + r.v + r.w;
-    r.tz = r.u * (p->sz * akz) + r.v * (p->sz * bkz) + r.w * (p->sz * ckz);
-    *out = r;
+    lanes_f u = cx * by - cy * bx;
+    lanes_f v = ax * cy - ay * cx;
+    lanes_f w = bx * ay - by * ax;
+    lanes_i zero = (u == 0.0f) | (v == 0.0f) | (w == 0.0f);
+    if (any_lane(zero)) {
+        packet_edges r;
+        r.u = u;
+        r.v = v;
+        r.w = w;
+        r = packet_exact_edges(r, zero, ax, ay, bx, by, cx, cy);
+        u = r.u;
+        v = r.v;
+        w = r.w;
+    }
+    *u_out = u;
+    *v_out = v;
+    *w_out = w;
+    *det_out = u + v + w;
+    *tz_out = u * (p->sz * akz) + v * (p->sz * bkz) + w * (p->sz * ckz);
 }
 
 /* Lanes where the edge functions do not take both signs. (Masks come only from comparisons, never
    from ~, so every lane is 0 or -1 on every implementation.) */
-static lanes_i not_outside(packet_edges r)
+static lanes_i not_outside(lanes_f u, lanes_f v, lanes_f w)
 {
-    return ((r.u >= 0.0f) & (r.v >= 0.0f) & (r.w >= 0.0f)) | ((r.u <= 0.0f) & (r.v <= 0.0f) & (r.w <= 0.0f));
+    return ((u >= 0.0f) & (v >= 0.0f) & (w >= 0.0f)) | ((u <= 0.0f) & (v <= 0.0f) & (w <= 0.0f));
 }
 
 /* clvis_ray_trusted on every lane, from the vertices minus each lane's origin. */
@@ -186,23 +199,35 @@ static void packet_test_triangle(const packet* p, const float* vert, uint tri_id
         }
         trusted = packet_trusted(akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz);
     }
-    packet_edges r;
-    packet_edges_of(p, akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz, &r);
+    lanes_f u, v, w, det, tz;
+    packet_edges_of(p, akx, aky, akz, bkx, bky, bkz, ckx, cky, ckz, &u, &v, &w, &det, &tz);
     /* clvis_project_triangle's wide retest: where the float test cannot be trusted, or huge
        finite coordinates overflowed */
-    lanes_i wide = (trusted == 0) | not_finite(r.det) | not_finite(r.tz);
-    lanes_i inside = not_outside(r);
-    /* Most triangles of a leaf miss every ray: then no lane's key can change (skip the division) */
-    int any_lane = or_lanes((wide & 1) | (inside & 2));
-    if (!any_lane) return;
-    lanes_f t = r.tz / r.det;
-    if (any_lane & 1) {
-        r = packet_wide(p, vert, wide, r, &t);
-        inside = not_outside(r);
+    lanes_i wide = (trusted == 0) | not_finite(det) | not_finite(tz);
+    lanes_i inside = not_outside(u, v, w);
+    /* The division on every lane, without first asking whether some lane is inside: whether one
+       is varies from triangle to triangle, and the mispredicted branch cost more than the
+       division (bunny 256x256: 8% of the frame). A lane outside keeps its key (hit below). */
+    lanes_f t = tz / det;
+    if (any_lane(wide)) { /* rare: through a struct and a copy of t, so that u .. t stay in registers */
+        packet_edges r;
+        r.u = u;
+        r.v = v;
+        r.w = w;
+        r.det = det;
+        r.tz = tz;
+        lanes_f t_wide = t;
+        r = packet_wide(p, vert, wide, r, &t_wide);
+        t = t_wide;
+        u = r.u;
+        v = r.v;
+        w = r.w;
+        det = r.det;
+        inside = not_outside(u, v, w);
     }
-    lanes_i hit = inside & (r.det != 0.0f) & (t >= near_t) & (t <= far_t);
-    if (faces == CLVIS_CULL_BACK) hit &= r.det > 0.0f; /* clvis_cull_keeps on every lane */
-    else if (faces == CLVIS_CULL_FRONT) hit &= r.det < 0.0f;
+    lanes_i hit = inside & (det != 0.0f) & (t >= near_t) & (t <= far_t);
+    if (faces == CLVIS_CULL_BACK) hit &= det > 0.0f; /* clvis_cull_keeps on every lane */
+    else if (faces == CLVIS_CULL_FRONT) hit &= det < 0.0f;
     lanes_u bits = as_uint16(t), id = (lanes_u)(tri_id);
     lanes_i nearer = hit & ((bits < *best_t) | ((bits == *best_t) & (id < *best_id)));
 #if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
