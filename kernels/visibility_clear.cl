@@ -3,12 +3,6 @@
 #include "shared/visibility.h"
 #include "shared/raster_stream.h"
 
-__kernel void visibility_clear(__global ulong* keys, uint count)
-{
-    uint i = get_global_id(0);
-    if (i < count) keys[i] = CLVIS_BACKGROUND_KEY;
-}
-
 /* The raster path's clear: work-item k writes keys CLVIS_CLEAR_RUN k .. CLVIS_CLEAR_RUN (k + 1) - 1
    (those below `count`) a cache line at a time. With `stream` (the host asks for it where the
    keys are large against the cache) on a build with CLVIS_STREAM (shared/raster_stream.h), the

@@ -81,22 +81,6 @@ void DeviceScene::set_args(cl::Kernel& kernel, cl_uint first) const
     kernel.setArg(first + 4, cl_uint(triangle_count));
 }
 
-cl::Kernel make_clear_kernel(Device::Impl& device)
-{
-    return cl::Kernel(device.program("visibility_clear"), "visibility_clear");
-}
-
-void clear_keys(cl::Kernel& clear, Frame& frame)
-{
-    cl_uint count = cl_uint(((std::size_t(frame.width) * frame.height) << frame.gpu_camera.sample_log2) *
-                            std::size_t(frame.layers));
-    clear.setArg(0, frame.keys);
-    clear.setArg(1, count);
-    cl::Event done;
-    frame.queue.enqueueNDRangeKernel(clear, cl::NullRange, cl::NDRange(round_up(count, 256)), cl::NDRange(256),
-                                     nullptr, &done);
-    frame.stages->add("clear", done);
-}
 
 void StageRecorder::add(const std::string& stage, const cl::Event& event) { events_.emplace_back(stage, event); }
 

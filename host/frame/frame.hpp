@@ -98,11 +98,6 @@ struct ViewsFrame {
 /// Converts a validated camera for a width x height image.
 clvis_camera_gpu make_gpu_camera(const Camera& camera, int width, int height);
 
-/// The kernel that clears keys to the background (kernels/visibility_clear.cl); make one per
-/// pipeline, since cl::Kernel arguments are not safe to set from two threads.
-cl::Kernel make_clear_kernel(Device::Impl& device);
-/// Enqueues the clear of frame.keys to the background key (stage "clear").
-void clear_keys(cl::Kernel& clear, Frame& frame);
 
 /// RenderOptions::cull as the kernels' CLVIS_CULL_* (shared/visibility.h), for every path.
 inline int cull_mode(Cull cull)
