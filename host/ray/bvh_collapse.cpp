@@ -14,8 +14,10 @@ namespace {
 constexpr float inf = std::numeric_limits<float>::infinity();
 
 /// Appends the wide node for binary node `n` (interior) and its subtree; returns its depth.
-/// `leaves` (aligned collapse only, else empty): per binary node, the leaves below it.
-int collapse(const Bvh& bvh, std::uint32_t n, const std::vector<std::uint32_t>& leaves, BvhWide& out)
+/// `leaves` (aligned collapse only, else empty): per binary node, the leaves below it. `small`
+/// (the other collapse, else empty): the same, at most 255.
+int collapse(const Bvh& bvh, std::uint32_t n, const std::vector<std::uint32_t>& leaves,
+             const std::vector<std::uint8_t>& small, BvhWide& out)
 {
     std::uint32_t cap = 0; // aligned: children of at most `cap` leaves stay closed
     if (!leaves.empty())
@@ -23,13 +25,20 @@ int collapse(const Bvh& bvh, std::uint32_t n, const std::vector<std::uint32_t>& 
     std::uint32_t kids[bvh_width] = {n + 1, bvh.nodes[n].first};
     int count = 2;
     while (count < bvh_width) {
+        // the largest child, those that fit whole in the slots left first: a subtree of m leaves
+        // opened all the way takes m - 1 more slots and spares a node of m children of its own
+        // (at width 8 most such nodes were half empty: 11 bytes a triangle of a 1M sphere)
         int open = -1;
+        bool open_fits = false;
         double largest = -1;
         for (int k = 0; k < count; ++k) {
             const clvis_bvh_node& c = bvh.nodes[kids[k]];
-            if (c.count == 0 && node_area(c) > largest && (cap == 0 || leaves[kids[k]] > cap)) {
+            if (c.count > 0 || (cap != 0 && leaves[kids[k]] <= cap)) continue;
+            bool fits = !small.empty() && int(small[kids[k]]) <= bvh_width - count + 1;
+            if ((fits && !open_fits) || (fits == open_fits && node_area(c) > largest)) {
                 largest = node_area(c);
                 open = k;
+                open_fits = fits;
             }
         }
         if (open < 0) break;
@@ -62,7 +71,7 @@ int collapse(const Bvh& bvh, std::uint32_t n, const std::vector<std::uint32_t>& 
             w.child[k] = c.first;
         } else {
             std::uint32_t index = std::uint32_t(out.nodes.size());
-            int d = collapse(bvh, kids[k], leaves, out); // may move out.nodes: w is not used after this
+            int d = collapse(bvh, kids[k], leaves, small, out); // may move out.nodes: w is not used after this
             out.nodes[self].child[k] = index;
             depth = std::max(depth, d + 1);
         }
@@ -97,14 +106,21 @@ BvhWide collapse_wide(const Bvh& bvh, bool aligned)
         return out;
     }
     std::vector<std::uint32_t> leaves;
+    std::vector<std::uint8_t> small;
     if (aligned) { // depth-first: children after their parent, so one backward pass
         leaves.resize(bvh.nodes.size());
         for (std::size_t i = bvh.nodes.size(); i-- > 0;) {
             const clvis_bvh_node& b = bvh.nodes[i];
             leaves[i] = b.count > 0 ? 1 : leaves[i + 1] + leaves[b.first];
         }
+    } else {
+        small.resize(bvh.nodes.size());
+        for (std::size_t i = bvh.nodes.size(); i-- > 0;) {
+            const clvis_bvh_node& b = bvh.nodes[i];
+            small[i] = std::uint8_t(b.count > 0 ? 1 : std::min(255, int(small[i + 1]) + int(small[b.first])));
+        }
     }
-    out.depth = collapse(bvh, 0, leaves, out);
+    out.depth = collapse(bvh, 0, leaves, small, out);
     return out;
 }
 

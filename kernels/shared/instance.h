@@ -18,7 +18,7 @@
 typedef struct clvis_instance {
     float m[12];              /* rows 0-2 of the transform, float32 */
     clvis_u32 first_id;       /* added to each triangle's stored id */
-    clvis_u32 tree;           /* the tree's root  (a wide node), | CLVIS_INSTANCE_PLAIN for the plain meshes */
+    clvis_u32 tree;           /* the tree's root (a wide node), | CLVIS_INSTANCE_PLAIN for the plain meshes */
 } clvis_instance;
 
 #define CLVIS_INSTANCE_PLAIN 0x80000000u
