@@ -193,10 +193,13 @@ struct RayPipeline::Impl {
 
     static void check_nodes(std::size_t count)
     {
-        // (2^30 - 1): a stack entry of all ones enters an instance, and a root's top bit marks the
-        // plain meshes' entry (shared/instance.h)
-        if (count >= (std::size_t(1) << 30) - 1)
-            throw Error(Error::Kind::Limit, "the BVH's " + std::to_string(count) + " nodes exceed the ray kernel's 2^30 - 1");
+        // (2^29 - 1 at width 8): a stack entry names node << CLVIS_BVH_SLOT_BITS | slot, one of
+        // all ones enters an instance, and a root's top bit marks the plain meshes' entry
+        // (shared/instance.h)
+        constexpr int node_bits = 32 - CLVIS_BVH_SLOT_BITS;
+        if (count >= (std::size_t(1) << node_bits) - 1)
+            throw Error(Error::Kind::Limit, "the BVH's " + std::to_string(count) + " nodes exceed the ray kernel's 2^" +
+                                                std::to_string(node_bits) + " - 1");
     }
 
     /// Gathers the leaf triangles of bvh.ids from `world` straight into `tris`, a block at a time:
