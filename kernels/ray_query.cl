@@ -1,6 +1,6 @@
 /* Answers ray queries for any batch of rays (closest hit, any hit, hit count, all hits; CONVENTIONS.md
    "Ray queries", "Depth layers"), a run of rays per work-item (CLVIS_QUERY_LANES of them walked interleaved), through
-   the 4-wide BVH that ray_trace.cl reads (shared/bvh.h);
+   the wide BVH that ray_trace.cl reads (shared/bvh.h);
    ray_query_brute tests every triangle in id order instead, the reference the BVH walk must
    equal (shared/brute_scene.h: the expansion's arrays, or with CLVIS_SCENE_ITEMS the meshes once
    and a record per item). Rays and results live in buffers of either layout (shared/ray_query.h). Launched by
@@ -14,6 +14,7 @@
    (ambient occlusion, shadows, random) walk on their own. */
 #include "shared/brute_scene.h"
 #include "shared/bvh.h"
+#include "shared/bvh_boxes.h"
 #include "shared/instance.h"
 #include "shared/ray.h"
 #include "shared/ray_query.h"
@@ -30,8 +31,9 @@
    visits every box the ray meets in [tmin, tmax]. Without it the walk prunes against the K-th
    nearest hit once the list is full. */
 #endif
-/* CLVIS_RAY_STACK: entries, at least 3 x the 4-wide tree's depth + 1 (each visited node leaves
-   at most three children besides the one taken; shared/bvh_walk.h checks it is defined). */
+/* CLVIS_RAY_STACK: entries, at least (CLVIS_BVH_WIDTH - 1) x the wide tree's depth + 1 (each
+   visited node leaves at most that many children besides the one taken; shared/bvh_walk.h checks
+   it is defined). */
 
 #if CLVIS_QUERY == CLVIS_QUERY_ANY
 typedef uchar out_t;
@@ -216,70 +218,6 @@ static int leaf(__global const clvis_bvh_tri* tris, uint first, uint n, __global
     return 0;
 }
 
-#ifdef CLVIS_INSTANCES
-/* The world boxes of node n's four children in transformed instance xi, as the node stores them:
-   lo x, y, z then hi x, y, z, four lanes each. */
-static void world_boxes(__global const clvis_bvh4_node* n, __global const clvis_instance* xi, float w[24])
-{
-    for (int k = 0; k < 4; ++k) {
-        float lo[3], hi[3];
-        clvis_instance_child_box(n, k, xi, lo, hi);
-        for (int c = 0; c < 3; ++c) {
-            w[4 * c + k] = lo[c];
-            w[12 + 4 * c + k] = hi[c];
-        }
-    }
-}
-#endif
-
-/* clvis_ray_hits_box on the four children of a node at once: the same operations lane by lane.
-   The flat tree reads each axis' near and far planes straight from the node (lo_x, hi_x, ...
-   follow each other: the plane a ray meets first is the row after lo when its direction is
-   negative), so no select runs per node. */
-static int4 hits_boxes(__global const clvis_bvh4_node* n, __global const clvis_instance* xi, clvis_box_ray br,
-                       float near_t, float far_t, float4* entry)
-{
-#ifdef CLVIS_INSTANCES
-    float4 lox = vload4(0, n->lo_x), hix = vload4(0, n->hi_x);
-    float4 loy = vload4(0, n->lo_y), hiy = vload4(0, n->hi_y);
-    float4 loz = vload4(0, n->lo_z), hiz = vload4(0, n->hi_z);
-    if (xi) {
-        float w[24];
-        world_boxes(n, xi, w);
-        lox = vload4(0, w), loy = vload4(1, w), loz = vload4(2, w);
-        hix = vload4(3, w), hiy = vload4(4, w), hiz = vload4(5, w);
-    }
-    float4 nx = ((br.neg_x ? hix : lox) - br.origin.x) * br.inv.x;
-    float4 ny = ((br.neg_y ? hiy : loy) - br.origin.y) * br.inv.y;
-    float4 nz = ((br.neg_z ? hiz : loz) - br.origin.z) * br.inv.z;
-    float4 fx = ((br.neg_x ? lox : hix) - br.origin.x) * br.inv.x;
-    float4 fy = ((br.neg_y ? loy : hiy) - br.origin.y) * br.inv.y;
-    float4 fz = ((br.neg_z ? loz : hiz) - br.origin.z) * br.inv.z;
-#else
-    /* lo_x, hi_x, lo_y, hi_y, lo_z, hi_z: four floats each, 16-byte aligned in a 128-byte node (one
-       aligned load per row, where vload4 of a float pointer is split in two) */
-    __global const float4* rows = (__global const float4*)n->lo_x;
-    float4 nx = (rows[br.neg_x] - br.origin.x) * br.inv.x;
-    float4 ny = (rows[2 + br.neg_y] - br.origin.y) * br.inv.y;
-    float4 nz = (rows[4 + br.neg_z] - br.origin.z) * br.inv.z;
-    float4 fx = (rows[1 - br.neg_x] - br.origin.x) * br.inv.x;
-    float4 fy = (rows[3 - br.neg_y] - br.origin.y) * br.inv.y;
-    float4 fz = (rows[5 - br.neg_z] - br.origin.z) * br.inv.z;
-#endif
-    /* clvis_raise / clvis_lower: a NaN (origin in a slab's plane, 0 * inf) constrains nothing */
-    float4 t0 = (float4)(near_t);
-    t0 = select(t0, nx, nx > t0);
-    t0 = select(t0, ny, ny > t0);
-    t0 = select(t0, nz, nz > t0);
-    float4 t1 = (float4)(CLVIS_INFINITY);
-    t1 = select(t1, fx, fx < t1);
-    t1 = select(t1, fy, fy < t1);
-    t1 = select(t1, fz, fz < t1);
-    t1 = t1 * CLVIS_IZE_SCALE;
-    *entry = t0;
-    return (t0 <= t1) & (t0 <= (float4)(far_t * CLVIS_IZE_SCALE));
-}
-
 /* Whether the interval shrinks as hits are found (the walk orders children and drops far ones). */
 #if CLVIS_QUERY == CLVIS_QUERY_CLOSEST || (CLVIS_QUERY == CLVIS_QUERY_ALL && !defined(CLVIS_ALL_COUNTS))
 #define QUERY_PRUNES 1
@@ -300,17 +238,17 @@ typedef struct walker {
    without counts) order them by entry distance (and drop a popped one that starts past the
    nearest hit so far, the K-th); any hit and counts keep slot order (keys 0): their interval never
    shrinks, and any hit ends the walk at once. */
-static inline CLVIS_ALWAYS_INLINE int query_children(walker* w, __global const clvis_bvh4_node* nd,
-                                                     __global const clvis_instance* xi, float keys[4])
+static inline CLVIS_ALWAYS_INLINE int query_children(walker* w, __global const clvis_wide_node* nd,
+                                                     __global const clvis_instance* xi, float keys[CLVIS_BVH_WIDTH])
 {
-    float4 e4;
-    int4 hit = hits_boxes(nd, xi, w->br, w->r.tmin, query_far(w->r, &w->a), &e4);
+    clvis_wfloat e;
+    clvis_wint hit = clvis_hits_boxes(nd, xi, w->br, w->r.tmin, query_far(w->r, &w->a), &e);
 #if QUERY_PRUNES
-    vstore4(e4, 0, keys);
+    clvis_vstore_w(e, 0, keys);
 #else
-    vstore4((float4)(0.0f), 0, keys);
+    clvis_vstore_w((clvis_wfloat)(0.0f), 0, keys);
 #endif
-    return (hit.s0 & 1) | (hit.s1 & 2) | (hit.s2 & 4) | (hit.s3 & 8);
+    return clvis_wmask_bits(hit);
 }
 
 #define CLVIS_WALK_CTX walker
@@ -365,7 +303,7 @@ static void walk_start(__global const float* rays, int layout, ulong stride, ulo
 /* Work-item g answers rays [g * per_item, (g + 1) * per_item) of the batch, CLVIS_QUERY_LANES at a
    time: a lane whose ray is answered stores it and takes the next. `instances` only with
    CLVIS_INSTANCES: the flat build's arguments (and code) are as before. */
-__kernel void ray_query(__global const clvis_bvh4_node* nodes, uint node_count, __global const clvis_bvh_tri* tris,
+__kernel void ray_query(__global const clvis_wide_node* nodes, uint node_count, __global const clvis_bvh_tri* tris,
 #ifdef CLVIS_INSTANCES
                         __global const clvis_instance* instances,
 #endif

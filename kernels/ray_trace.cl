@@ -1,7 +1,7 @@
 /* Casts one primary ray per pixel centre through the BVH (shared/bvh.h) and writes the visibility
    key of every pixel; launched by host/ray/ray_pipeline.cpp. Each work-item traces a packet of 4x4
    pixels as the 16 lanes of OpenCL vectors (Wald et al., "Interactive rendering with coherent ray
-   tracing", 2001): one walk of the 4-wide tree per packet (shared/bvh_walk.h), nearest child
+   tracing", 2001): one walk of the wide tree per packet (shared/bvh_walk.h), nearest child
    first; every box and triangle test runs on all 16 rays at once, the same operations as the
    scalar tests of shared/ray.h, so each ray gets the bits that ray_brute.cl computes for it. A
    child is skipped when no ray of the packet can meet it before its nearest hit so far. A
@@ -26,7 +26,7 @@
    and a box is skipped only where no ray can find such a key in it: the ray misses the box
    widened by clvis_rule_box_of's margin, or every key in it would lie beyond the ray's nearest
    (its depth range starts past it) or before near. */
-static lanes_i packet_hits_box_rule(const packet* p, clvis_camera_gpu cam, __global const clvis_bvh4_node* n, int k,
+static lanes_i packet_hits_box_rule(const packet* p, clvis_camera_gpu cam, __global const clvis_wide_node* n, int k,
                                     __global const clvis_instance* xi, lanes_f cull)
 {
     float lo[3], hi[3];
@@ -81,17 +81,17 @@ static CLVIS_NOINLINE void packet_rule_leaf(__global const clvis_bvh_tri* tris, 
    distance: those that pass the interval test (packet_span_hits) and, among the leaves (or all
    of them where the rays' culls spread, some ray's nearest hit far before another's), that some
    ray meets by its own test (packet_hits_box), as its own cull goes. */
-static int span_children(const packet* p, __global const clvis_bvh4_node* n, float near_t, lanes_f cull, float cull_max,
-                         int spread, float entry[4])
+static int span_children(const packet* p, __global const clvis_wide_node* n, float near_t, lanes_f cull, float cull_max,
+                         int spread, float entry[CLVIS_BVH_WIDTH])
 {
-    float4 enter;
+    clvis_wfloat enter;
     int bits = packet_span_hits(p, n, near_t, cull_max, &enter), exact = 0;
-    vstore4(enter, 0, entry);
-    for (int c = 0; c < 4; ++c)
+    clvis_vstore_w(enter, 0, entry);
+    for (int c = 0; c < CLVIS_BVH_WIDTH; ++c)
         if (spread || n->count[c] > 0) exact |= bits & (1 << c);
     if (!exact) return bits;
     lanes_i lane_bits = (lanes_i)(0);
-    for (int c = 0; c < 4; ++c)
+    for (int c = 0; c < CLVIS_BVH_WIDTH; ++c)
         if (exact & (1 << c)) lane_bits |= packet_hits_box(p, n, c, 0, near_t, cull) & (1 << c);
     return (bits & ~exact) | or_lanes(lane_bits);
 }
@@ -119,7 +119,7 @@ typedef struct packet_walk {
 
 /* The walk's variants: WALK_LANES tests each child by every lane's own test and orders them by
    their box centres along a central ray, stack entries tested again when popped; WALK_SPAN
-   (a flat tree, a packet with p->span) tests a node's four children against the whole packet
+   (a flat tree, a packet with p->span) tests a node's children against the whole packet
    at once (span_children), nearest entry bound first, each stack entry beside its entry bound so
    that a pop is skipped by one comparison once every ray's cull lies before it. The interval test
    only keeps more boxes than the rays' own tests, so every ray finds the same nearest key. */
@@ -132,18 +132,21 @@ typedef struct packet_walk {
 #define PACKET_HITS_BOX(c, nd, k, xi) packet_hits_box((c)->p, nd, k, xi, (c)->cam->near_d, *(c)->cull)
 #endif
 
-/* The node test: the children some ray meets (the four children's masks as bits 0-3 of each
-   lane, then one reduction for all), keyed by their box centres along a central ray. */
-static inline CLVIS_ALWAYS_INLINE int packet_children(packet_walk* c, int variant, __global const clvis_bvh4_node* nd,
-                                                      __global const clvis_instance* xi, float keys[4])
+/* The node test: the children some ray meets (the children's masks as bits 0 .. CLVIS_BVH_WIDTH - 1
+   of each lane, then one reduction for all), keyed by their box centres along a central ray. */
+static inline CLVIS_ALWAYS_INLINE int packet_children(packet_walk* c, int variant, __global const clvis_wide_node* nd,
+                                                      __global const clvis_instance* xi,
+                                                      float keys[CLVIS_BVH_WIDTH])
 {
 #ifndef CLVIS_RASTER_RULE
     if (variant == WALK_SPAN) return span_children(c->p, nd, c->cam->near_d, *c->cull, c->cull_max, c->spread, keys);
 #endif
     const packet* p = c->p;
-    int bits = or_lanes((PACKET_HITS_BOX(c, nd, 0, xi) & 1) | (PACKET_HITS_BOX(c, nd, 1, xi) & 2) |
-                        (PACKET_HITS_BOX(c, nd, 2, xi) & 4) | (PACKET_HITS_BOX(c, nd, 3, xi) & 8));
-    for (int k = 0; k < 4; ++k)
+    lanes_i lane_bits = (lanes_i)(0);
+#pragma unroll
+    for (int k = 0; k < CLVIS_BVH_WIDTH; ++k) lane_bits |= PACKET_HITS_BOX(c, nd, k, xi) & (1 << k);
+    int bits = or_lanes(lane_bits);
+    for (int k = 0; k < CLVIS_BVH_WIDTH; ++k)
         if (bits & (1 << k))
             keys[k] = (nd->lo_x[k] + nd->hi_x[k]) * p->cx + (nd->lo_y[k] + nd->hi_y[k]) * p->cy +
                       (nd->lo_z[k] + nd->hi_z[k]) * p->cz;
@@ -192,7 +195,7 @@ static inline CLVIS_ALWAYS_INLINE int packet_leaf(packet_walk* c, int variant, _
    took the camera by value, a per-work-item copy on PoCL read back across its stores
    (docs/architecture.md, decision 5). */
 static inline CLVIS_ALWAYS_INLINE void
-trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int y0, __global const clvis_bvh4_node* nodes,
+trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int y0, __global const clvis_wide_node* nodes,
              uint node_count, __global const clvis_bvh_tri* tris, __global const clvis_instance* instances,
              int two_level, int faces, __global ulong* keys)
 {
@@ -274,7 +277,7 @@ trace_packet(clvis_camera_gpu cam, clvis_region region, int x0, int y0, __global
     }
 }
 
-__kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh4_node* nodes, uint node_count,
+__kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_wide_node* nodes, uint node_count,
                         __global const clvis_bvh_tri* tris, int faces, __global ulong* keys, clvis_region region,
                         __global const clvis_instance* instances, int two_level)
 {
@@ -286,7 +289,7 @@ __kernel void ray_trace(clvis_camera_gpu cam, __global const clvis_bvh4_node* no
 
 /* Many views in one launch: the third dimension is the view, whose keys start `stride` keys after
    the previous view's. Each view gets the bits ray_trace gives it alone (the same function). */
-__kernel void ray_trace_views(__global const clvis_camera_gpu* cams, __global const clvis_bvh4_node* nodes,
+__kernel void ray_trace_views(__global const clvis_camera_gpu* cams, __global const clvis_wide_node* nodes,
                               uint node_count, __global const clvis_bvh_tri* tris, int faces, __global ulong* keys,
                               ulong stride, __global const clvis_instance* instances, int two_level)
 {

@@ -5,10 +5,11 @@
    lanes compute the same operations), every candidate triangle gets the scalar test of
    shared/ray.h (or, with CLVIS_RASTER_RULE, the raster path's predicate of shared/raster_rule.h),
    and the walk only prunes boxes that the packet's walk would prune for this ray, so the nearest
-   key is the same. The walk (shared/bvh_walk.h): the 4-wide BVH (shared/bvh.h), or from the top
+   key is the same. The walk (shared/bvh_walk.h): the wide BVH (shared/bvh.h), or from the top
    level of the instances (shared/instance.h), children met pushed with their entry distance,
    nearest taken first, a popped entry skipped when it lies beyond the nearest key so far. */
 #include "shared/bvh.h"
+#include "shared/bvh_boxes.h"
 #include "shared/camera.h"
 #include "shared/instance.h"
 #include "shared/layers.h"
@@ -61,7 +62,7 @@ static float reach(const single_ray* r, clvis_camera_gpu cam) { return fmin(cam.
 /* ray_trace.cl's packet_hits_box_rule for this ray: whether the ray's line meets child k's box
    widened by clvis_rule_box_of's margin, slabs bounded by rounding, a NaN (the line in a slab's
    plane) constraining nothing. *enter gets the box's depth range's start, what pruning compares. */
-static int child_hits(const single_ray* r, clvis_camera_gpu cam, __global const clvis_bvh4_node* n, int k,
+static int child_hits(const single_ray* r, clvis_camera_gpu cam, __global const clvis_wide_node* n, int k,
                       __global const clvis_instance* xi, float* enter)
 {
     float lo[3], hi[3];
@@ -110,17 +111,6 @@ static float reach(const single_ray* r, clvis_camera_gpu cam)
     return fmin(cam.far_d, clvis_key_depth(r->best)) * CLVIS_IZE_SCALE;
 }
 
-/* clvis_ray_hits_box on child k's world box (ray_trace.cl's packet_hits_box on one lane);
-   *enter gets the entry distance, what pruning compares. */
-static int child_hits(const single_ray* r, clvis_camera_gpu cam, __global const clvis_bvh4_node* n, int k,
-                      __global const clvis_instance* xi, float* enter)
-{
-    float lo[3], hi[3];
-    clvis_instance_child_box(n, k, xi, lo, hi);
-    clvis_vec3 l = {lo[0], lo[1], lo[2]}, h = {hi[0], hi[1], hi[2]};
-    return clvis_ray_hits_box(r->box, l, h, cam.near_d, fmin(cam.far_d, clvis_key_depth(r->best)), enter);
-}
-
 /* The watertight test on the leaf's triangles, keeping the nearest key (depth bits, then id). */
 static void test_leaf(single_ray* r, clvis_camera_gpu cam, int faces, __global const clvis_bvh_tri* tris, uint first,
                       uint count, __global const clvis_instance* xi)
@@ -148,12 +138,16 @@ typedef struct single_walk {
     int faces;
 } single_walk;
 
-/* The node test: the children the ray meets, keyed by their entry distance. */
-static inline CLVIS_ALWAYS_INLINE int single_children(single_walk* c, __global const clvis_bvh4_node* nd,
-                                                      __global const clvis_instance* xi, float keys[4])
+/* The node test: the children the ray meets, keyed by their entry distance: watertight, every
+   child at once (shared/bvh_boxes.h: clvis_ray_hits_box on each child's world box, ray_trace.cl's
+   packet_hits_box on one lane); with the raster rule, child_hits on each. */
+static inline CLVIS_ALWAYS_INLINE int single_children(single_walk* c, __global const clvis_wide_node* nd,
+                                                      __global const clvis_instance* xi,
+                                                      float keys[CLVIS_BVH_WIDTH])
 {
+#ifdef CLVIS_RASTER_RULE
     int bits = 0;
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < CLVIS_BVH_WIDTH; ++k) {
         float e;
         if (child_hits(c->r, *c->cam, nd, k, xi, &e)) {
             bits |= 1 << k;
@@ -161,6 +155,13 @@ static inline CLVIS_ALWAYS_INLINE int single_children(single_walk* c, __global c
         }
     }
     return bits;
+#else
+    clvis_wfloat e;
+    clvis_wint hit = clvis_hits_boxes(nd, xi, c->r->box, c->cam->near_d,
+                                      fmin(c->cam->far_d, clvis_key_depth(c->r->best)), &e);
+    clvis_vstore_w(e, 0, keys);
+    return clvis_wmask_bits(hit);
+#endif
 }
 
 #define CLVIS_WALK_CTX single_walk
@@ -174,7 +175,7 @@ static inline CLVIS_ALWAYS_INLINE int single_children(single_walk* c, __global c
 
 /* The whole walk of ray r (cast with camera cam); `two_level` starts in the top level of
    `instances`. */
-static void walk_single(single_ray* r, const clvis_camera_gpu* cam, __global const clvis_bvh4_node* nodes,
+static void walk_single(single_ray* r, const clvis_camera_gpu* cam, __global const clvis_wide_node* nodes,
                         uint node_count, __global const clvis_bvh_tri* tris, __global const clvis_instance* instances,
                         int two_level, int faces)
 {
@@ -187,7 +188,7 @@ static void walk_single(single_ray* r, const clvis_camera_gpu* cam, __global con
 
 #if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
 /* Depth layers: the K nearest keys of the ray of pixel (x, y) into out[0], out[plane], .. */
-static void trace_single_layers(clvis_camera_gpu cam, int x, int y, __global const clvis_bvh4_node* nodes,
+static void trace_single_layers(clvis_camera_gpu cam, int x, int y, __global const clvis_wide_node* nodes,
                                 uint node_count, __global const clvis_bvh_tri* tris,
                                 __global const clvis_instance* instances, int two_level, int faces,
                                 __global ulong* out, size_t plane)
@@ -199,7 +200,7 @@ static void trace_single_layers(clvis_camera_gpu cam, int x, int y, __global con
 #endif
 
 /* The nearest key of the ray of pixel (x, y); `two_level` starts in the top level of `instances`. */
-static ulong trace_single(clvis_camera_gpu cam, int x, int y, __global const clvis_bvh4_node* nodes, uint node_count,
+static ulong trace_single(clvis_camera_gpu cam, int x, int y, __global const clvis_wide_node* nodes, uint node_count,
                           __global const clvis_bvh_tri* tris, __global const clvis_instance* instances, int two_level,
                           int faces)
 {
@@ -208,7 +209,7 @@ static ulong trace_single(clvis_camera_gpu cam, int x, int y, __global const clv
     return r.best;
 }
 
-__kernel void ray_trace_single(clvis_camera_gpu cam, __global const clvis_bvh4_node* nodes, uint node_count,
+__kernel void ray_trace_single(clvis_camera_gpu cam, __global const clvis_wide_node* nodes, uint node_count,
                                __global const clvis_bvh_tri* tris, int faces, __global ulong* keys, clvis_region region,
                                __global const clvis_instance* instances, int two_level)
 {
@@ -226,7 +227,7 @@ __kernel void ray_trace_single(clvis_camera_gpu cam, __global const clvis_bvh4_n
 
 /* Many views in one launch (ray_trace_views' interface): the third dimension is the view, whose
    keys start `stride` keys after the previous view's. */
-__kernel void ray_trace_single_views(__global const clvis_camera_gpu* cams, __global const clvis_bvh4_node* nodes,
+__kernel void ray_trace_single_views(__global const clvis_camera_gpu* cams, __global const clvis_wide_node* nodes,
                                      uint node_count, __global const clvis_bvh_tri* tris, int faces,
                                      __global ulong* keys, ulong stride, __global const clvis_instance* instances,
                                      int two_level)

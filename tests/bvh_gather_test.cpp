@@ -1,5 +1,5 @@
 // The flat BVH built without its leaf triangles (BvhBuildOptions::gather false, issue 37's memory):
-// the same tree, 4-wide nodes and stats as the build that gathers, the leaf slots' ids those of
+// the same tree, wide nodes and stats as the build that gathers, the leaf slots' ids those of
 // its triangles, and gather_bvh_tris (what ray_pipeline.cpp writes to the device a block at a
 // time) the same bits as Bvh::tris, whole or in blocks.
 #include "catch.hpp"
@@ -24,7 +24,7 @@ TEST_CASE("a BVH built without gathering gives the gathered one's tree and trian
             with.max_leaf_size = leaf;
             BvhBuildOptions without = with;
             without.gather = false;
-            Bvh4 wide_with, wide_without;
+            BvhWide wide_with, wide_without;
             Bvh a = build_bvh(m.positions.data(), m.indices.data(), m.triangle_count(), with, &wide_with);
             Bvh b = build_bvh(m.positions.data(), m.indices.data(), m.triangle_count(), without, &wide_without);
             CHECK(a.ids.empty());
@@ -59,7 +59,7 @@ TEST_CASE("a BVH of no triangles built without gathering is empty", "[bvh]")
 {
     BvhBuildOptions o;
     o.gather = false;
-    Bvh4 wide;
+    BvhWide wide;
     Bvh b = build_bvh(nullptr, nullptr, 0, o, &wide);
     CHECK(b.nodes.empty());
     CHECK(b.ids.empty());

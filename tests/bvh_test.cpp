@@ -118,9 +118,9 @@ std::size_t check_invariants(const Bvh& bvh, const Mesh& m, int max_leaf)
     return failures;
 }
 
-/// The 4-wide form holds every leaf of the binary tree exactly once, with its box, each interior
+/// The wide form holds every leaf of the binary tree exactly once, with its box, each interior
 /// child's box holds its own children, and unused slots have empty boxes; returns failures.
-std::size_t check_wide(const Bvh4& wide, const Bvh& bvh)
+std::size_t check_wide(const BvhWide& wide, const Bvh& bvh)
 {
     if (bvh.nodes.empty()) return wide.nodes.empty() ? 0 : 1;
     std::size_t failures = 0;
@@ -133,9 +133,9 @@ std::size_t check_wide(const Bvh4& wide, const Bvh& bvh)
         pending.pop_back();
         if (i >= wide.nodes.size() || node_seen[i]++) return failures + 1;
         deepest = std::max(deepest, depth);
-        const clvis_bvh4_node& w = wide.nodes[i];
+        const clvis_wide_node& w = wide.nodes[i];
         int used = 0;
-        for (int k = 0; k < 4; ++k) {
+        for (int k = 0; k < bvh_width; ++k) {
             bool empty = !(w.lo_x[k] <= w.hi_x[k]);
             if (empty) {
                 failures += w.lo_y[k] <= w.hi_y[k] || w.lo_z[k] <= w.hi_z[k];
@@ -154,8 +154,8 @@ std::size_t check_wide(const Bvh4& wide, const Bvh& bvh)
                 }
             } else {
                 if (w.child[k] <= i || w.child[k] >= wide.nodes.size()) return failures + 1;
-                const clvis_bvh4_node& c = wide.nodes[w.child[k]];
-                for (int j = 0; j < 4; ++j) {
+                const clvis_wide_node& c = wide.nodes[w.child[k]];
+                for (int j = 0; j < bvh_width; ++j) {
                     if (!(c.lo_x[j] <= c.hi_x[j])) continue;
                     failures += !(w.lo_x[k] <= c.lo_x[j] && c.hi_x[j] <= w.hi_x[k] && w.lo_y[k] <= c.lo_y[j] &&
                                   c.hi_y[j] <= w.hi_y[k] && w.lo_z[k] <= c.lo_z[j] && c.hi_z[j] <= w.hi_z[k]);
@@ -174,7 +174,7 @@ std::size_t check_wide(const Bvh4& wide, const Bvh& bvh)
 
 } // namespace
 
-TEST_CASE("the 4-wide form keeps every leaf once and boxes that hold what is below them", "[bvh]")
+TEST_CASE("the wide form keeps every leaf once and boxes that hold what is below them", "[bvh]")
 {
     std::vector<std::pair<std::string, Mesh>> meshes;
     meshes.emplace_back("sphere", from(make_uv_sphere(5000)));
@@ -191,11 +191,22 @@ TEST_CASE("the 4-wide form keeps every leaf once and boxes that hold what is bel
             BvhBuildOptions o;
             o.max_leaf_size = leaf;
             Bvh bvh = build(mesh, o);
-            Bvh4 wide = collapse_bvh4(bvh);
+            BvhWide wide = collapse_wide(bvh);
             CHECK(check_wide(wide, bvh) == 0);
             CHECK(wide.depth <= bvh.depth);
             // every node but a lone root holds at least two children: at most leaves - 1 nodes
             CHECK(wide.nodes.size() <= std::max<std::size_t>(1, bvh.leaves - 1));
+            // the greedy collapse fills a node unless all its children are leaves
+            std::size_t partial = 0;
+            for (const clvis_wide_node& w : wide.nodes) {
+                int used = 0, interior = 0;
+                for (int k = 0; k < bvh_width; ++k) {
+                    used += w.lo_x[k] <= w.hi_x[k];
+                    interior += w.lo_x[k] <= w.hi_x[k] && w.count[k] == 0;
+                }
+                partial += used < bvh_width && interior > 0;
+            }
+            CHECK(partial == 0);
         }
     }
 }
@@ -328,20 +339,20 @@ TEST_CASE("a refit follows moved vertices with the same topology", "[bvh]")
 {
     Mesh mesh = from(make_uv_sphere(3000));
     Bvh bvh = build(mesh);
-    Bvh4 wide = collapse_bvh4(bvh);
+    BvhWide wide = collapse_wide(bvh);
     Bvh before = bvh;
-    Bvh4 wide_before = wide;
+    BvhWide wide_before = wide;
     for (std::size_t i = 0; i < mesh.positions.size(); i += 3) {
         mesh.positions[i] = mesh.positions[i] * 2.0f + 3.0f;                  // stretch and slide in x
         mesh.positions[i + 2] = mesh.positions[i + 2] * std::fabs(mesh.positions[i + 1]); // pinch in z
     }
     refit_bvh(bvh, mesh.positions.data(), mesh.indices.data());
-    refit_bvh4(wide, bvh);
+    refit_wide(wide, bvh);
     CHECK(check_invariants(bvh, mesh, 4) == 0);
     CHECK(check_wide(wide, bvh) == 0);
     REQUIRE(wide.nodes.size() == wide_before.nodes.size());
     for (std::size_t i = 0; i < wide.nodes.size(); ++i)
-        for (int k = 0; k < 4; ++k) {
+        for (int k = 0; k < bvh_width; ++k) {
             CHECK(wide.nodes[i].child[k] == wide_before.nodes[i].child[k]);
             CHECK(wide.nodes[i].count[k] == wide_before.nodes[i].count[k]);
         }
@@ -354,15 +365,16 @@ TEST_CASE("a refit follows moved vertices with the same topology", "[bvh]")
     CHECK(bvh.nodes[0].hi_x == Approx(5.0f));
 }
 
-TEST_CASE("full leaves pack 64 triangles into 16 leaves of 4 under five 4-wide nodes", "[bvh]")
+TEST_CASE("full leaves pack bvh_width^2 leaves of 4 under bvh_width + 1 full wide nodes", "[bvh]")
 {
+    const std::uint32_t leaves = std::uint32_t(bvh_width * bvh_width), triangles = 4 * leaves;
     Mesh same; // every centroid in one point: the split still goes by whole leaves
-    for (std::uint32_t i = 0; i < 64; ++i) {
+    for (std::uint32_t i = 0; i < triangles; ++i) {
         same.positions.insert(same.positions.end(), {0, 0, 0, 1, 0, 0, 0, 1, 0});
         same.indices.insert(same.indices.end(), {3 * i, 3 * i + 1, 3 * i + 2});
     }
     std::vector<std::pair<std::string, Mesh>> meshes;
-    meshes.emplace_back("soup", soup(64, 5));
+    meshes.emplace_back("soup", soup(triangles, 5));
     meshes.emplace_back("one point", same);
     for (auto& [name, mesh] : meshes) {
         INFO(name);
@@ -371,10 +383,10 @@ TEST_CASE("full leaves pack 64 triangles into 16 leaves of 4 under five 4-wide n
         o.full_leaves = true;
         Bvh bvh = build(mesh, o);
         CHECK(check_invariants(bvh, mesh, 4) == 0);
-        CHECK(bvh.leaves == 16);
-        Bvh4 wide = collapse_bvh4(bvh, true);
+        CHECK(bvh.leaves == leaves);
+        BvhWide wide = collapse_wide(bvh, true);
         CHECK(check_wide(wide, bvh) == 0);
-        CHECK(wide.nodes.size() == 5);
+        CHECK(wide.nodes.size() == std::size_t(bvh_width) + 1);
     }
     Mesh big = soup(3000, 9);
     BvhBuildOptions o;
@@ -383,9 +395,9 @@ TEST_CASE("full leaves pack 64 triangles into 16 leaves of 4 under five 4-wide n
     Bvh bvh = build(big, o);
     CHECK(check_invariants(bvh, big, 4) == 0);
     CHECK(bvh.leaves < 3000 / 4 + 3000 / 100); // nearly all leaves full
-    Bvh4 wide = collapse_bvh4(bvh, true), plain = collapse_bvh4(bvh);
+    BvhWide wide = collapse_wide(bvh, true), plain = collapse_wide(bvh);
     CHECK(check_wide(wide, bvh) == 0);
-    INFO(wide.nodes.size() << " 4-wide nodes aligned, " << plain.nodes.size() << " not, " << bvh.leaves << " leaves");
+    INFO(wide.nodes.size() << " wide nodes aligned, " << plain.nodes.size() << " not, " << bvh.leaves << " leaves");
     CHECK(wide.nodes.size() < plain.nodes.size());
-    CHECK(wide.nodes.size() < bvh.leaves * 2 / 5); // a third when every node is full
+    CHECK(wide.nodes.size() < bvh.leaves * 2 / 5); // 1 / (bvh_width - 1) when every node is full
 }

@@ -32,10 +32,10 @@ struct HostWalk {
 
 float reach(const HostWalk* c) { return clvis_key_depth(c->best); }
 
-int host_children(HostWalk* c, const clvis_bvh4_node* nd, const clvis_instance* xi, float keys[4])
+int host_children(HostWalk* c, const clvis_wide_node* nd, const clvis_instance* xi, float keys[CLVIS_BVH_WIDTH])
 {
     int bits = 0;
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < bvh_width; ++k) {
         float lo[3], hi[3], e;
         clvis_instance_child_box(nd, k, xi, lo, hi);
         clvis_vec3 l = {lo[0], lo[1], lo[2]}, h = {hi[0], hi[1], hi[2]};
@@ -74,7 +74,7 @@ int host_leaf(HostWalk* c, const clvis_bvh_tri* tris, clvis_u32 first, clvis_u32
 namespace {
 
 struct Tree {
-    std::vector<clvis_bvh4_node> nodes;
+    std::vector<clvis_wide_node> nodes;
     std::vector<clvis_bvh_tri> tris;
     std::vector<clvis_instance> instances; ///< empty: a flat tree
 };
@@ -149,9 +149,9 @@ TEST_CASE("the shared BVH walk finds every ray's nearest hit in a flat tree", "[
     Scene scene;
     scene.add_mesh(soup);
     BvhBuildOptions options;
-    Bvh4 wide;
+    BvhWide wide;
     Bvh bvh = build_bvh(soup.positions.data(), soup.indices.data(), soup.indices.size() / 3, options, &wide);
-    REQUIRE(3 * wide.depth + 1 <= CLVIS_RAY_STACK);
+    REQUIRE((bvh_width - 1) * wide.depth + 1 <= CLVIS_RAY_STACK);
     check_rays({wide.nodes, bvh.tris, {}}, scene, 400, 11);
 }
 

@@ -1,4 +1,4 @@
-// The float box of the BVH build, its refit and its 4-wide collapse (bvh_build.cpp,
+// The float box of the BVH build, its refit and its wide collapse (bvh_build.cpp,
 // bvh_collapse.cpp): the boxes of kernels/shared/bvh.h, grown and measured on the host.
 #pragma once
 

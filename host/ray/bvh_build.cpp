@@ -190,9 +190,9 @@ private:
     }
 
     /// With full_leaves, ranges of up to this many leaves split by split_full (larger ones by the
-    /// binned SAH, as without). 256 packed 10,000 instances 1.4 bytes each tighter, but its
-    /// sorts doubled the top level's rebuild.
-    static constexpr std::uint32_t full_sweep = 16;
+    /// binned SAH, as without): a full wide subtree of two levels (16 at width 4; 256 there packed
+    /// 10,000 instances 1.4 bytes each tighter, but its sorts doubled the top level's rebuild).
+    static constexpr std::uint32_t full_sweep = std::uint32_t(bvh_width * bvh_width);
 
     /// full_leaves_split (bvh_full.hpp) on `r`.
     void split_full(const Range& r, Range& left, Range& right) const
@@ -283,10 +283,10 @@ void gather_tris(const float* positions, const std::uint32_t* indices, unsigned 
 } // namespace
 
 Bvh build_bvh(const float* positions, const std::uint32_t* indices, std::size_t triangle_count,
-              const BvhBuildOptions& options, Bvh4* wide)
+              const BvhBuildOptions& options, BvhWide* wide)
 {
     Bvh out;
-    if (wide) *wide = Bvh4();
+    if (wide) *wide = BvhWide();
     if (triangle_count == 0) return out;
     unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
 
@@ -335,7 +335,7 @@ Bvh build_bvh(const float* positions, const std::uint32_t* indices, std::size_t 
     auto totals_of = [&out, wide, aligned = options.full_leaves] {
         for (const clvis_bvh_node& n : out.nodes) out.leaves += n.count > 0;
         out.sah_cost = bvh_sah_cost(out.nodes);
-        if (wide) *wide = collapse_bvh4(out, aligned);
+        if (wide) *wide = collapse_wide(out, aligned);
     };
     if (!options.gather) {
         // The ids alone, the scratch freed, then the collapse: the leaf triangles (40 bytes each)

@@ -23,10 +23,10 @@ enum class BvhSplit {
 struct BvhBuildOptions : BvhOptions {
     BvhSplit split = BvhSplit::Sah;
     unsigned threads = 0;    ///< worker threads; 0: the machine's hardware threads
-    /// Every range of at most max_leaf_size becomes a leaf, and ranges of up to 16 leaves split
-    /// where the left side is whole leaves, or whole groups of 4 leaves past 4: with
-    /// collapse_bvh4's `aligned`, most 4-wide nodes are full, as the instances' top level wants
-    /// it (bvh_instances.cpp).
+    /// Every range of at most max_leaf_size becomes a leaf, and ranges of up to bvh_width^2 leaves
+    /// split where the left side is whole leaves, or whole groups of bvh_width leaves past
+    /// bvh_width: with collapse_wide's `aligned`, most wide nodes are full, as the instances' top
+    /// level wants it (bvh_instances.cpp).
     bool full_leaves = false;
     /// false: build_bvh leaves Bvh::tris empty and gives the leaf slots' triangle ids in
     /// Bvh::ids instead (4 bytes a triangle, not 40), freeing its build scratch before the
@@ -49,22 +49,27 @@ struct Bvh {
     double sah_cost = 0;                 ///< see bvh_sah_cost
 };
 
-/// The binary tree collapsed to 4-wide nodes for the kernel, depth-first from the root (node 0).
-struct Bvh4 {
-    std::vector<clvis_bvh4_node> nodes; ///< empty for a scene without triangles
-    std::vector<std::uint32_t> source;  ///< per slot (4 per node): the binary node it copies, or ~0u
-    int depth = 0;                      ///< 4-wide nodes on the longest root-to-leaf path
+/// Children per wide node (kernels/shared/bvh.h's CLVIS_BVH_WIDTH): the collapse, the aligned
+/// top level of the instances and the traversal stack's size follow it.
+constexpr int bvh_width = CLVIS_BVH_WIDTH;
+
+/// The binary tree collapsed to wide nodes for the kernel, depth-first from the root (node 0).
+struct BvhWide {
+    std::vector<clvis_wide_node> nodes; ///< empty for a scene without triangles
+    std::vector<std::uint32_t> source;  ///< per slot (bvh_width per node): the binary node it copies, or ~0u
+    int depth = 0;                      ///< wide nodes on the longest root-to-leaf path
 };
 
-/// Collapses `bvh`: each 4-wide node takes a binary node's children and opens the largest
-/// interior ones until it holds four (Wald et al., "Getting rid of packets", 2008). The leaves and
-/// triangle slots stay those of `bvh`. `aligned` (a tree built with full_leaves): a node of m
-/// leaves opens only children of more than c leaves, c the largest power of 4 below m, so that
-/// each group of 4^k leaves the build made becomes one full 4-wide subtree.
-Bvh4 collapse_bvh4(const Bvh& bvh, bool aligned = false);
+/// Collapses `bvh`: each wide node takes a binary node's children and opens the largest
+/// interior ones until it holds bvh_width (Wald et al., "Getting rid of packets", 2008; Embree's
+/// and tinybvh's BVH8). The leaves and triangle slots stay those of `bvh`. `aligned` (a tree built
+/// with full_leaves): a node of m leaves opens only children of more than c leaves, c the largest
+/// power of bvh_width below m, so that each group of bvh_width^k leaves the build made becomes one
+/// full wide subtree.
+BvhWide collapse_wide(const Bvh& bvh, bool aligned = false);
 
-/// Copies the boxes of a refitted `bvh` into the 4-wide nodes collapsed from it (same grouping).
-void refit_bvh4(Bvh4& wide, const Bvh& bvh);
+/// Copies the boxes of a refitted `bvh` into the wide nodes collapsed from it (same grouping).
+void refit_wide(BvhWide& wide, const Bvh& bvh);
 
 /// What a refit needs of the binary tree's shape, kept between refits (issue 37's memory): each
 /// node's leaf triangle count in depth-first order (0 for an interior node), one byte a node.
@@ -77,19 +82,19 @@ std::vector<std::uint8_t> bvh_leaf_counts(const std::vector<clvis_bvh_node>& nod
 /// `counts` is no depth-first tree.
 std::vector<clvis_bvh_node> bvh_from_leaf_counts(const std::vector<std::uint8_t>& counts);
 
-/// Bvh4::source of `wide`, collapsed from the binary tree whose first and count `binary` holds
+/// BvhWide::source of `wide`, collapsed from the binary tree whose first and count `binary` holds
 /// (boxes not read): each used slot's binary node, found by its leaf slot range, which names one
 /// node (every interior node has two non-empty children), in the binary node's subtree that the
-/// 4-wide node was collapsed from. Throws Error(InvalidArgument) where the trees disagree.
-std::vector<std::uint32_t> bvh4_source_of(const std::vector<clvis_bvh_node>& binary,
-                                          const std::vector<clvis_bvh4_node>& wide);
+/// wide node was collapsed from. Throws Error(InvalidArgument) where the trees disagree.
+std::vector<std::uint32_t> wide_source_of(const std::vector<clvis_bvh_node>& binary,
+                                          const std::vector<clvis_wide_node>& wide);
 
 /// Builds the BVH of `triangle_count` triangles given by `indices` (3 per triangle, id order)
 /// into `positions` (3 floats per vertex). Same input, same bits, whatever the threads do. With
-/// `wide`, also collapses it there (collapse_bvh4, aligned as options.full_leaves): on the pool,
+/// `wide`, also collapses it there (collapse_wide, aligned as options.full_leaves): on the pool,
 /// beside the copy of the leaf triangles, so the same result as the two calls in less time.
 Bvh build_bvh(const float* positions, const std::uint32_t* indices, std::size_t triangle_count,
-              const BvhBuildOptions& options, Bvh4* wide = nullptr);
+              const BvhBuildOptions& options, BvhWide* wide = nullptr);
 
 /// Writes leaf slots [0, count) of `ids` to `out` as build_bvh gathers Bvh::tris (the same bits),
 /// on `threads` threads (0: the machine's hardware threads).

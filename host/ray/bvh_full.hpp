@@ -1,10 +1,11 @@
 // The split of BvhBuildOptions::full_leaves (bvh_build.cpp): an exact SAH sweep over a range sorted
 // by centroid on each axis, where the left side may only hold whole groups of leaves, so that the
-// leaves come out full and in groups of 4, 16, 64... that collapse_bvh4's `aligned` makes full
-// 4-wide subtrees (the instances' top level, bvh_instances.cpp).
+// leaves come out full and in groups of bvh_width, bvh_width^2, ... that collapse_wide's `aligned`
+// makes full wide subtrees (the instances' top level, bvh_instances.cpp).
 #pragma once
 
 #include "ray/bvh_box.hpp"
+#include "ray/bvh_build.hpp"
 
 #include <algorithm>
 #include <cstddef>
@@ -15,7 +16,8 @@
 namespace clvis::detail {
 
 /// Reorders [first, last) (more than `leaf` items) by centroid on the best axis and returns the
-/// left side's count: a multiple of `leaf` times the largest power of 4 below a quarter of the
+/// left side's count: a multiple of `leaf` times the largest power of bvh_width below a
+/// bvh_width-th of the
 /// range's leaves, at the least SAH cost. box_of(item) gives an item's Box; less(axis) a strict
 /// order of items by centroid on that axis (ties by id, so the result is fully determined).
 template <class It, class BoxOf, class Less>
@@ -23,7 +25,7 @@ std::size_t full_leaves_split(It first, It last, std::size_t leaf, BoxOf box_of,
 {
     using Item = typename std::iterator_traits<It>::value_type;
     std::size_t n = std::size_t(last - first), step = leaf;
-    while (4 * step < n) step *= 4;
+    while (std::size_t(bvh_width) * step < n) step *= std::size_t(bvh_width);
     std::vector<Item> order(first, last);
     std::vector<double> right_area(n + 1, 0.0);
     double best = std::numeric_limits<double>::infinity();

@@ -29,10 +29,10 @@ void build_tree(InstanceBvh::Tree& tree, const BvhBuildOptions& options)
 }
 
 /// Appends `wide`'s nodes with children moved by the arrays' offsets.
-void append_nodes(std::vector<clvis_bvh4_node>& out, const Bvh4& wide, std::uint32_t node_base, std::uint32_t tri_base)
+void append_nodes(std::vector<clvis_wide_node>& out, const BvhWide& wide, std::uint32_t node_base, std::uint32_t tri_base)
 {
-    for (clvis_bvh4_node n : wide.nodes) {
-        for (int k = 0; k < 4; ++k) n.child[k] += n.count[k] > 0 ? tri_base : node_base;
+    for (clvis_wide_node n : wide.nodes) {
+        for (int k = 0; k < bvh_width; ++k) n.child[k] += n.count[k] > 0 ? tri_base : node_base;
         out.push_back(n);
     }
 }
@@ -85,7 +85,7 @@ void InstanceBvh::update_plain(const Scene& scene, const BvhBuildOptions& option
     plain_.positions = std::move(positions);
     if (refit) {
         refit_bvh(plain_.bvh, plain_.positions.data(), plain_.indices.data());
-        refit_bvh4(plain_.wide, plain_.bvh);
+        refit_wide(plain_.wide, plain_.bvh);
         plain_refitted_ = true;
     } else {
         plain_.indices = std::move(indices);
@@ -138,7 +138,7 @@ void InstanceBvh::build_top(const Scene& scene, const BvhBuildOptions& options)
     o.max_leaf_size = top_leaf_size;
     o.full_leaves = true; // leaves of four entries: a quarter of the top level's boxes
     top_ = build_bvh(corners.data(), indices.data(), entries_.size(), o);
-    top_wide_ = collapse_bvh4(top_, true);
+    top_wide_ = collapse_wide(top_, true);
 }
 
 void InstanceBvh::assemble()
@@ -175,7 +175,7 @@ void InstanceBvh::assemble()
         instances_.push_back(e);
     }
     depth_ = top_.depth + bottom_depth;
-    stack_entries_ = 3 * top_wide_.depth + (top_leaf_size - 1) + 3 * bottom_wide + 1;
+    stack_entries_ = (bvh_width - 1) * top_wide_.depth + (top_leaf_size - 1) + (bvh_width - 1) * bottom_wide + 1;
 }
 
 } // namespace clvis::detail

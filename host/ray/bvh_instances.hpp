@@ -22,7 +22,7 @@ public:
     void update(const Scene& scene, const BvhBuildOptions& options);
 
     /// Top level from node 0, then the plain meshes' tree, then each prototype's.
-    const std::vector<clvis_bvh4_node>& nodes() const { return nodes_; }
+    const std::vector<clvis_wide_node>& nodes() const { return nodes_; }
     /// The plain meshes' leaf triangles (global ids), then each prototype's (local ids).
     const std::vector<clvis_bvh_tri>& tris() const { return tris_; }
     /// The top level's leaf entries, in slot order.
@@ -40,7 +40,7 @@ public:
 
     /// The top level's leaf size: leaves are full (BvhBuildOptions::full_leaves), so the top
     /// level stores one box per four instances. A ray that meets a leaf enters all of them, each
-    /// culled by its root's four world boxes; leaves of 8 made the 10,000-bunny frame slower.
+    /// culled by its root's world boxes; leaves of 8 made the 10,000-bunny frame slower (4-wide).
     static constexpr int top_leaf_size = 4;
 
     struct Tree {
@@ -48,7 +48,7 @@ public:
         std::vector<std::uint32_t> indices;
         std::vector<std::uint32_t> ids;      ///< the plain meshes' global id per input triangle
         Bvh bvh;
-        Bvh4 wide;
+        BvhWide wide;
         bool built = false;
     };
 
@@ -60,11 +60,11 @@ private:
     std::vector<Tree> prototypes_;
     Tree plain_;
     Bvh top_;
-    Bvh4 top_wide_;
+    BvhWide top_wide_;
     static constexpr std::size_t no_tree = std::size_t(-1);
     std::vector<clvis_instance> entries_; ///< per top-level input: the instance, or the plain tree
     std::vector<std::size_t> entry_tree_; ///< per entry: its prototype, or no_tree (the plain meshes)
-    std::vector<clvis_bvh4_node> nodes_;
+    std::vector<clvis_wide_node> nodes_;
     std::vector<clvis_bvh_tri> tris_;
     std::vector<clvis_instance> instances_;
     int stack_entries_ = 0;

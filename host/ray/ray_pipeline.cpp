@@ -20,7 +20,7 @@
 namespace clvis::detail {
 
 static_assert(sizeof(clvis_bvh_node) == 32, "layout shared with kernels/shared/bvh.h");
-static_assert(sizeof(clvis_bvh4_node) == 128, "layout shared with kernels/shared/bvh.h");
+static_assert(sizeof(clvis_wide_node) == 32 * bvh_width, "layout shared with kernels/shared/bvh.h");
 static_assert(sizeof(clvis_bvh_tri) == 40, "layout shared with kernels/shared/bvh.h");
 static_assert(sizeof(clvis_instance) == 56, "layout shared with kernels/shared/instance.h");
 
@@ -88,9 +88,9 @@ struct RayPipeline::Impl {
     std::vector<std::uint8_t> shape;
     std::size_t leaf_slots = 0;
     /// What the kernel reads; its nodes and source are freed on the host once uploaded (a refit
-    /// reads the nodes back and derives the source: bvh4_source_of), its depth kept. wide_nodes:
+    /// reads the nodes back and derives the source: wide_source_of), its depth kept. wide_nodes:
     /// their count.
-    Bvh4 wide;
+    BvhWide wide;
     std::size_t wide_nodes = 0;
     bool built = false;
     cl::Buffer nodes, tris;
@@ -145,11 +145,11 @@ struct RayPipeline::Impl {
                            round_up((std::size_t(height) + ph - 1) / ph, g[1]));
     }
 
-    /// The trace kernel with a stack for the tree's depth: each 4-wide node on the current path
-    /// leaves at most three children on it.
+    /// The trace kernel with a stack for the tree's depth: each wide node on the current path
+    /// leaves at most bvh_width - 1 children on it.
     void prepare_trace()
     {
-        int entries = two_level ? levels.stack_entries() : 3 * wide.depth + 1;
+        int entries = two_level ? levels.stack_entries() : (bvh_width - 1) * wide.depth + 1;
         int stack = (entries / stack_step + 1) * stack_step;
         if (stack == trace_stack) return;
         if (options.layers > 1 && !single && device.loop_limit() != Device::Impl::loop_unlimited)
@@ -193,10 +193,13 @@ struct RayPipeline::Impl {
 
     static void check_nodes(std::size_t count)
     {
-        // (2^30 - 1): a stack entry of all ones enters an instance, and a root's top bit marks the
-        // plain meshes' entry (shared/instance.h)
-        if (count >= (std::size_t(1) << 30) - 1)
-            throw Error(Error::Kind::Limit, "the BVH's " + std::to_string(count) + " nodes exceed the ray kernel's 2^30 - 1");
+        // (2^29 - 1 at width 8): a stack entry names node << CLVIS_BVH_SLOT_BITS | slot, one of
+        // all ones enters an instance, and a root's top bit marks the plain meshes' entry
+        // (shared/instance.h)
+        constexpr int node_bits = 32 - CLVIS_BVH_SLOT_BITS;
+        if (count >= (std::size_t(1) << node_bits) - 1)
+            throw Error(Error::Kind::Limit, "the BVH's " + std::to_string(count) + " nodes exceed the ray kernel's 2^" +
+                                                std::to_string(node_bits) + " - 1");
     }
 
     /// Gathers the leaf triangles of bvh.ids from `world` straight into `tris`, a block at a time:
@@ -223,17 +226,17 @@ struct RayPipeline::Impl {
         std::vector<clvis_bvh_node>().swap(bvh.nodes);
     }
 
-    /// Once the 4-wide nodes are on the device: frees the host's and their source, which only a
+    /// Once the wide nodes are on the device: frees the host's and their source, which only a
     /// refit reads again (restore_host_tree).
     void release_host_tree()
     {
         wide_nodes = wide.nodes.size();
-        std::vector<clvis_bvh4_node>().swap(wide.nodes);
+        std::vector<clvis_wide_node>().swap(wide.nodes);
         std::vector<std::uint32_t>().swap(wide.source);
     }
 
     /// The host tree release_host_tree freed, for a refit: binary nodes from the shape (boxes
-    /// zero: a refit recomputes every one), the leaf slots and 4-wide nodes read back from the
+    /// zero: a refit recomputes every one), the leaf slots and wide nodes read back from the
     /// device (a refit reads the slots' ids and writes their vertices), the source derived.
     void restore_host_tree(cl::CommandQueue& queue)
     {
@@ -242,11 +245,11 @@ struct RayPipeline::Impl {
         wide.nodes.resize(wide_nodes);
         try {
             if (leaf_slots) queue.enqueueReadBuffer(tris, CL_TRUE, 0, leaf_slots * sizeof(clvis_bvh_tri), bvh.tris.data());
-            if (wide_nodes) queue.enqueueReadBuffer(nodes, CL_TRUE, 0, wide_nodes * sizeof(clvis_bvh4_node), wide.nodes.data());
+            if (wide_nodes) queue.enqueueReadBuffer(nodes, CL_TRUE, 0, wide_nodes * sizeof(clvis_wide_node), wide.nodes.data());
         } catch (const cl::Error& e) {
             throw_cl_error(e, "reading the BVH back from " + device.info.name);
         }
-        wide.source = bvh4_source_of(bvh.nodes, wide.nodes);
+        wide.source = wide_source_of(bvh.nodes, wide.nodes);
     }
 
     /// Uploads the flat BVH (nodes, tris: gathered from `world` where given, else bvh.tris), or
@@ -262,7 +265,7 @@ struct RayPipeline::Impl {
                 put(instances, levels.instances(), "instances", queue);
             } else {
                 // One large piece on the host at a time beside the device's: the binary boxes
-                // dropped, the 4-wide nodes uploaded and freed, then the leaf triangles gathered.
+                // dropped, the wide nodes uploaded and freed, then the leaf triangles gathered.
                 check_nodes(wide.nodes.size());
                 compact_binary();
                 put(nodes, wide.nodes, "nodes", queue);
@@ -374,7 +377,7 @@ void RayPipeline::update(const Scene& scene, cl::CommandQueue& queue)
     WorldMesh world = world_mesh(scene);
     m.restore_host_tree(queue);
     refit_bvh(m.bvh, world.positions, world.indices);
-    refit_bvh4(m.wide, m.bvh);
+    refit_wide(m.wide, m.bvh);
     m.fill_stats(ms_since(t0), true);
     m.upload(queue, false);
 }
@@ -390,7 +393,7 @@ std::uint32_t RayPipeline::node_count() const
 }
 const cl::Buffer& RayPipeline::instances() const { return impl_->instances; }
 bool RayPipeline::two_level() const { return impl_->two_level; }
-int RayPipeline::stack_entries() const { return impl_->two_level ? impl_->levels.stack_entries() : 3 * impl_->wide.depth + 1; }
+int RayPipeline::stack_entries() const { return impl_->two_level ? impl_->levels.stack_entries() : (bvh_width - 1) * impl_->wide.depth + 1; }
 
 void RayPipeline::render(const DeviceScene& scene, Frame& frame, bool brute)
 {

@@ -40,7 +40,7 @@ public:
     /// Enqueues one trace through the BVH for every view of `frame` (ray_trace_views).
     void render_views(ViewsFrame& frame);
 
-    /// The resident BVH as ray_trace.cl reads it, for the ray queries (query/ray_query.cpp): 4-wide
+    /// The resident BVH as ray_trace.cl reads it, for the ray queries (query/ray_query.cpp): wide
     /// nodes, leaf triangles, the node count, the instances (empty without them), whether it has
     /// two levels (a scene with instances: ray_query.cl's CLVIS_INSTANCES) and the stack entries a
     /// walk needs. Valid once built.

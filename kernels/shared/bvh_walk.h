@@ -1,6 +1,6 @@
-/* The one walk of the 4-wide BVH (shared/bvh.h) that every ray kernel runs (ray_trace.cl's
+/* The one walk of the wide BVH (shared/bvh.h) that every ray kernel runs (ray_trace.cl's
    packets, ray_trace_single.cl, ray_query.cl), after Embree's traverser templates: the node
-   layout's details (the 4-wide node fetch, the children's order, the stack's entries, push and
+   layout's details (the wide node fetch, the children's order, the stack's entries, push and
    pop, entering a top-level leaf's instances, shared/instance.h) live here once, and what a
    kernel tests is its parameters. A kernel defines, before including this header:
      CLVIS_WALK_CTX                             its context type (what its tests read and update)
@@ -11,7 +11,8 @@
      CLVIS_WALK_BOX_SKIP(ctx, v, nd, k, xi)     a popped child is dropped (its box tested again)
      CLVIS_WALK_LEAF(ctx, v, tris, first, count, xi)  the leaf test of triangles tris[first ..
                                                 first + count - 1]; nonzero ends the walk (any hit)
-   and CLVIS_RAY_STACK (entries: each visit pushes at most 3, a top-level leaf at most 3 more). `v`
+   and CLVIS_RAY_STACK (entries: each visit pushes at most CLVIS_BVH_WIDTH - 1, a top-level leaf
+   at most its instances less one more). `v`
    is clvis_walk_step's `variant`, a constant the kernel picks its tests by (ray_trace.cl walks
    a packet two ways); `two_level` (a constant too) compiles the instance handling in or out.
    Always inlined with constant arguments, so each kernel gets its own walk's code. */
@@ -32,11 +33,11 @@
 /* No node left to visit: the walk is over. */
 #define CLVIS_WALK_DONE 0xFFFFFFFFu
 
-/* A stack entry names a child slot, (4-wide node << 2) | slot, so that a popped child can be
-   tested again against what the walk found since it was pushed. */
-#define CLVIS_WALK_ENTRY(node, slot) ((clvis_u32)(node) << 2 | (clvis_u32)(slot))
-#define CLVIS_WALK_NODE(e) ((e) >> 2)
-#define CLVIS_WALK_SLOT(e) ((int)((e) & 3u))
+/* A stack entry names a child slot, (wide node << CLVIS_BVH_SLOT_BITS) | slot, so that a popped
+   child can be tested again against what the walk found since it was pushed. */
+#define CLVIS_WALK_ENTRY(node, slot) ((clvis_u32)(node) << CLVIS_BVH_SLOT_BITS | (clvis_u32)(slot))
+#define CLVIS_WALK_NODE(e) ((e) >> CLVIS_BVH_SLOT_BITS)
+#define CLVIS_WALK_SLOT(e) ((int)((e) & (clvis_u32)(CLVIS_BVH_WIDTH - 1)))
 
 /* The levels a two-level walk is in: the flat tree of a scene without instances (and the plain
    meshes' tree), the top level, whose leaves list instances, or instance i's tree. */
@@ -48,7 +49,7 @@
 
 /* Where a walk stands between two steps. */
 typedef struct clvis_walk {
-    clvis_u32 node;                        /* the 4-wide node visited next, or CLVIS_WALK_DONE */
+    clvis_u32 node;                        /* the wide node visited next, or CLVIS_WALK_DONE */
     clvis_u32 sp;                          /* stack entries */
     clvis_u32 inst;                        /* two-level: the level (CLVIS_INST_*, or an instance) */
     CLVIS_GLOBAL const clvis_instance* xi; /* two-level: instance `inst`'s record, or none */
@@ -72,18 +73,22 @@ static inline void clvis_walk_start(clvis_walk* w, clvis_u32 node_count, int top
 
 /* CLVIS_PREFETCH (PoCL's CPU device, Device::Impl::cpu_hints): a walk fetches every child it
    meets (the one visited next and those pushed) into the cache as the node is visited, so that
-   the (up to four) misses of one node's children overlap instead of each stalling the walk when
+   the (up to CLVIS_BVH_WIDTH) misses of one node's children overlap instead of each stalling the walk when
    it is reached. A hint only: the walk reads the same values with or without it. */
-static inline void clvis_prefetch_child(CLVIS_GLOBAL const clvis_bvh4_node* nodes,
-                                        CLVIS_GLOBAL const clvis_bvh_tri* tris, CLVIS_GLOBAL const clvis_bvh4_node* n,
+static inline void clvis_prefetch_child(CLVIS_GLOBAL const clvis_wide_node* nodes,
+                                        CLVIS_GLOBAL const clvis_bvh_tri* tris, CLVIS_GLOBAL const clvis_wide_node* n,
                                         int k)
 {
 #ifdef CLVIS_PREFETCH
-    /* a node's first two cache lines, or a leaf's first triangles (past the end: no fault) */
-    CLVIS_GLOBAL const char* p = n->count[k] == 0 ? (CLVIS_GLOBAL const char*)(nodes + n->child[k])
-                                                  : (CLVIS_GLOBAL const char*)(tris + n->child[k]);
-    CLVIS_PREFETCH_LINE(p);
-    CLVIS_PREFETCH_LINE(p + 64);
+    /* a node's cache lines, or a leaf's first two of triangles (past the end: no fault) */
+    if (n->count[k] == 0) {
+        CLVIS_GLOBAL const char* p = (CLVIS_GLOBAL const char*)(nodes + n->child[k]);
+        for (int line = 0; line < (int)sizeof(clvis_wide_node); line += 64) CLVIS_PREFETCH_LINE(p + line);
+    } else {
+        CLVIS_GLOBAL const char* p = (CLVIS_GLOBAL const char*)(tris + n->child[k]);
+        CLVIS_PREFETCH_LINE(p);
+        CLVIS_PREFETCH_LINE(p + 64);
+    }
 #else
     (void)nodes; (void)tris; (void)n; (void)k;
 #endif
@@ -107,15 +112,15 @@ static inline clvis_u32 clvis_enter_instance(CLVIS_GLOBAL const clvis_instance* 
    empty or the leaf test ends the walk. A kernel steps until done, or interleaves the steps of
    several walks (ray_query.cl's lanes). */
 static inline CLVIS_ALWAYS_INLINE void clvis_walk_step(CLVIS_WALK_CTX* ctx, const int variant, const int two_level,
-                                                       CLVIS_GLOBAL const clvis_bvh4_node* nodes,
+                                                       CLVIS_GLOBAL const clvis_wide_node* nodes,
                                                        CLVIS_GLOBAL const clvis_bvh_tri* tris,
                                                        CLVIS_GLOBAL const clvis_instance* instances, clvis_walk* w,
                                                        clvis_walk_stack* st)
 {
     (void)variant; /* for the parameters that ignore it */
-    CLVIS_GLOBAL const clvis_bvh4_node* nd = nodes + w->node;
+    CLVIS_GLOBAL const clvis_wide_node* nd = nodes + w->node;
     CLVIS_GLOBAL const clvis_instance* xi = two_level ? w->xi : 0;
-    float keys[4];
+    float keys[CLVIS_BVH_WIDTH];
     int bits = CLVIS_WALK_CHILDREN(ctx, variant, nd, xi, keys);
     /* The nearest child met (by key; the first slot among equals) is visited next without a trip
        through the stack; the others are pushed far to near, so that the nearest pops first. The
@@ -127,7 +132,7 @@ static inline CLVIS_ALWAYS_INLINE void clvis_walk_step(CLVIS_WALK_CTX* ctx, cons
 #ifdef __OPENCL_C_VERSION__
 #pragma unroll
 #endif
-    for (int c = 0; c < 4; ++c) {
+    for (int c = 0; c < CLVIS_BVH_WIDTH; ++c) {
         if (!(bits & (1 << c))) continue;
         if (prefetch) clvis_prefetch_child(nodes, tris, nd, c);
         if (k < 0) {

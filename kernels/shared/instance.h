@@ -18,7 +18,7 @@
 typedef struct clvis_instance {
     float m[12];              /* rows 0-2 of the transform, float32 */
     clvis_u32 first_id;       /* added to each triangle's stored id */
-    clvis_u32 tree;           /* the tree's root (a 4-wide node), | CLVIS_INSTANCE_PLAIN for the plain meshes */
+    clvis_u32 tree;           /* the tree's root (a wide node), | CLVIS_INSTANCE_PLAIN for the plain meshes */
 } clvis_instance;
 
 #define CLVIS_INSTANCE_PLAIN 0x80000000u
@@ -91,8 +91,8 @@ static inline clvis_u32 clvis_instance_triangle(CLVIS_GLOBAL const clvis_bvh_tri
     return t->id + xi->first_id;
 }
 
-/* The world-space box of child k of 4-wide node n in instance xi (none: the node's own box). */
-static inline void clvis_instance_child_box(CLVIS_GLOBAL const clvis_bvh4_node* n, int k,
+/* The world-space box of child k of wide node n in instance xi (none: the node's own box). */
+static inline void clvis_instance_child_box(CLVIS_GLOBAL const clvis_wide_node* n, int k,
                                             CLVIS_GLOBAL const clvis_instance* xi, float lo[3], float hi[3])
 {
     float l[3] = {n->lo_x[k], n->lo_y[k], n->lo_z[k]}, h[3] = {n->hi_x[k], n->hi_y[k], n->hi_z[k]};

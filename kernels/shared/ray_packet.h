@@ -1,7 +1,7 @@
 /* The 16-ray packets of ray_trace.cl (OpenCL C only: vector types): the packet's rays, made with
    the same operations as the scalar clvis_primary_ray, clvis_make_shear and clvis_make_box_ray, and
    the box tests on all 16 rays at once (the scalar clvis_ray_hits_box's operations per lane, and
-   a conservative interval test of a node's four children against the whole packet). */
+   a conservative interval test of a node's children against the whole packet). */
 #ifndef CLVIS_SHARED_RAY_PACKET_H
 #define CLVIS_SHARED_RAY_PACKET_H
 
@@ -199,7 +199,7 @@ static void make_packet(clvis_camera_gpu cam, int x0, int y0, packet* p)
    or its nearest hit) already scaled by CLVIS_IZE_SCALE. Where every lane enters through the same
    planes the planes are picked once, and with a common origin (perspective) plane - origin is
    one scalar subtraction: the same operations on the same values as the per-lane form. */
-static lanes_i packet_hits_box(const packet* p, __global const clvis_bvh4_node* n, int k, __global const clvis_instance* xi,
+static lanes_i packet_hits_box(const packet* p, __global const clvis_wide_node* n, int k, __global const clvis_instance* xi,
                                float near_t, lanes_f cull)
 {
     float lo[3], hi[3];
@@ -241,32 +241,34 @@ static lanes_i packet_hits_box(const packet* p, __global const clvis_bvh4_node* 
 
 /* The extremes over the lanes of a * i, i in [lo, hi] (the lanes' 1 / direction on one axis):
    a product's rounding is monotonic in each factor, so a * lo or a * hi is one lane's own bits. */
-static float4 span_low(float4 a, float lo, float hi) { return select(a * hi, a * lo, a >= 0.0f); }
-static float4 span_high(float4 a, float lo, float hi) { return select(a * lo, a * hi, a >= 0.0f); }
-static float4 raise4(float4 acc, float4 v) { return select(acc, v, v > acc); }
-static float4 lower4(float4 acc, float4 v) { return select(acc, v, v < acc); }
+static clvis_wfloat span_low(clvis_wfloat a, float lo, float hi) { return select(a * hi, a * lo, a >= 0.0f); }
+static clvis_wfloat span_high(clvis_wfloat a, float lo, float hi) { return select(a * lo, a * hi, a >= 0.0f); }
+static clvis_wfloat raise_w(clvis_wfloat acc, clvis_wfloat v) { return select(acc, v, v > acc); }
+static clvis_wfloat lower_w(clvis_wfloat acc, clvis_wfloat v) { return select(acc, v, v < acc); }
 
-/* The interval test of node n's four children against the whole packet (p->span: a common origin,
+/* The interval test of node n's children against the whole packet (p->span: a common origin,
    one entry plane per axis, no NaN): bit k is set unless no lane can pass packet_hits_box for
    child k. Each lane's entry distance is at least enter[k], the largest of near and the lanes'
    smallest plane distances, and its exit at most the smallest of their largest, scaled as there:
    a child is dropped where enter exceeds that exit or every lane's cull (cull_max, their largest). */
-static int packet_span_hits(const packet* p, __global const clvis_bvh4_node* n, float near_t, float cull_max,
-                            float4* enter)
+static int packet_span_hits(const packet* p, __global const clvis_wide_node* n, float near_t, float cull_max,
+                            clvis_wfloat* enter)
 {
-    float4 lx = vload4(0, n->lo_x), ly = vload4(0, n->lo_y), lz = vload4(0, n->lo_z);
-    float4 hx = vload4(0, n->hi_x), hy = vload4(0, n->hi_y), hz = vload4(0, n->hi_z);
-    float4 ax = (p->neg_x ? hx : lx) - p->eye_x, bx = (p->neg_x ? lx : hx) - p->eye_x;
-    float4 ay = (p->neg_y ? hy : ly) - p->eye_y, by = (p->neg_y ? ly : hy) - p->eye_y;
-    float4 az = (p->neg_z ? hz : lz) - p->eye_z, bz = (p->neg_z ? lz : hz) - p->eye_z;
-    float4 t0 = raise4(raise4(raise4((float4)(near_t), span_low(ax, p->ix_lo, p->ix_hi)), span_low(ay, p->iy_lo, p->iy_hi)),
-                       span_low(az, p->iz_lo, p->iz_hi));
-    float4 t1 = lower4(lower4(lower4((float4)(CLVIS_INFINITY), span_high(bx, p->ix_lo, p->ix_hi)),
-                              span_high(by, p->iy_lo, p->iy_hi)),
-                       span_high(bz, p->iz_lo, p->iz_hi)) * CLVIS_IZE_SCALE;
-    int4 hit = (t0 <= t1) & (t0 <= (float4)(cull_max));
+    /* rows aligned to their vector in the node, as ray_query.cl's hits_boxes reads them */
+    __global const clvis_wfloat* rows = (__global const clvis_wfloat*)n->lo_x;
+    clvis_wfloat lx = rows[0], hx = rows[1], ly = rows[2], hy = rows[3], lz = rows[4], hz = rows[5];
+    clvis_wfloat ax = (p->neg_x ? hx : lx) - p->eye_x, bx = (p->neg_x ? lx : hx) - p->eye_x;
+    clvis_wfloat ay = (p->neg_y ? hy : ly) - p->eye_y, by = (p->neg_y ? ly : hy) - p->eye_y;
+    clvis_wfloat az = (p->neg_z ? hz : lz) - p->eye_z, bz = (p->neg_z ? lz : hz) - p->eye_z;
+    clvis_wfloat t0 = raise_w(raise_w(raise_w((clvis_wfloat)(near_t), span_low(ax, p->ix_lo, p->ix_hi)),
+                                      span_low(ay, p->iy_lo, p->iy_hi)),
+                              span_low(az, p->iz_lo, p->iz_hi));
+    clvis_wfloat t1 = lower_w(lower_w(lower_w((clvis_wfloat)(CLVIS_INFINITY), span_high(bx, p->ix_lo, p->ix_hi)),
+                                      span_high(by, p->iy_lo, p->iy_hi)),
+                              span_high(bz, p->iz_lo, p->iz_hi)) * CLVIS_IZE_SCALE;
+    clvis_wint hit = (t0 <= t1) & (t0 <= (clvis_wfloat)(cull_max));
     *enter = t0;
-    return (hit.s0 & 1) | (hit.s1 & 2) | (hit.s2 & 4) | (hit.s3 & 8);
+    return clvis_wmask_bits(hit);
 }
 
 #endif
