@@ -215,16 +215,23 @@ static inline clvis_wide clvis_wide_edge(clvis_wide sx, clvis_wide sy, const clv
 
 static inline clvis_wide clvis_wide_abs(clvis_wide x) { return x < 0 ? -x : x; }
 
-static CLVIS_NOINLINE clvis_tri_2d clvis_project_triangle_wide(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b,
-                                                               clvis_vec3 c)
+/* The scale of clvis_project_triangle_wide: clvis_ray_scale of the largest magnitude among the
+   vertices' and the origin's coordinates. */
+static inline float clvis_wide_scale(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c)
 {
     float m = clvis_max_abs3(a), mb = clvis_max_abs3(b), mc = clvis_max_abs3(c), mo = clvis_max_abs3(s.origin);
     m = m > mb ? m : mb;
     m = m > mc ? m : mc;
     m = m > mo ? m : mo;
-    float k = clvis_ray_scale(m);
-    clvis_tri_2d p;
-    clvis_project_triangle_scaled(s, a, b, c, k, &p); /* the 2D positions, for clvis_edge_side */
+    return clvis_ray_scale(m);
+}
+
+/* The wide arithmetic of clvis_project_triangle_wide on p, the triangle projected with the scale k
+   (clvis_project_triangle_scaled): the edge functions and the plane's parameter replaced. */
+static inline CLVIS_ALWAYS_INLINE void clvis_wide_retest(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b,
+                                                         clvis_vec3 c, float k, clvis_tri_2d* out)
+{
+    clvis_tri_2d p = *out;
     clvis_vec3 v[3] = {a, b, c};
     clvis_wide P[3][3], Q[3][3], o[3];
     clvis_i32 axis[3] = {s.kx, s.ky, s.kz};
@@ -272,6 +279,28 @@ static CLVIS_NOINLINE clvis_tri_2d clvis_project_triangle_wide(clvis_ray_shear s
     p.v = (float)vv;
     p.w = (float)w;
     p.wide = 1;
+    *out = p;
+}
+
+static inline CLVIS_NOINLINE clvis_tri_2d clvis_project_triangle_wide(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b,
+                                                               clvis_vec3 c)
+{
+    float k = clvis_wide_scale(s, a, b, c);
+    clvis_tri_2d p;
+    clvis_project_triangle_scaled(s, a, b, c, k, &p); /* the 2D positions, for clvis_edge_side */
+    clvis_wide_retest(s, a, b, c, k, &p);
+    return p;
+}
+
+/* clvis_project_triangle_wide given f, the triangle projected with scale 1: where the wide scale is
+   1 too, f's 2D positions are the ones it would compute again (the same operations). */
+static inline CLVIS_NOINLINE clvis_tri_2d clvis_project_triangle_wide_from(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b,
+                                                                    clvis_vec3 c, clvis_tri_2d f)
+{
+    float k = clvis_wide_scale(s, a, b, c);
+    clvis_tri_2d p = f;
+    if (k != 1.0f) clvis_project_triangle_scaled(s, a, b, c, k, &p);
+    clvis_wide_retest(s, a, b, c, k, &p);
     return p;
 }
 
@@ -287,7 +316,56 @@ static inline CLVIS_ALWAYS_INLINE void clvis_project_triangle(clvis_ray_shear s,
 {
     clvis_project_triangle_scaled(s, a, b, c, 1.0f, p);
     if (!p->wide && clvis_finite(p->u + p->v + p->w) && clvis_finite(clvis_triangle_tz(s, *p))) return;
-    *p = clvis_project_triangle_wide(s, a, b, c);
+    *p = clvis_project_triangle_wide_from(s, a, b, c, *p);
+}
+
+/* Whether a triangle that the float test cannot be trusted with is missed for certain, so that
+   the wide retest, which would say so too, need not run (a miss either way: the same answer; on
+   AO rays the triangle a ray starts on and its neighbours fail the trust check, and most of them
+   are missed this way). p is the triangle projected with scale 1. Forward error bounds of the
+   float operations, with M the largest magnitude of the vertices minus the origin (each
+   coordinate rounded once, |sx|, |sy| <= 1: a sheared coordinate is off by at most 5 u M,
+   u = 2^-24): each edge function lies within e = 256 u M^2 of its exact value (at most 81 u M^2,
+   the float form's and clvis_exact_edges' alike), det within 4 e + 4 u S and tz within
+   |sz| M (4 e + 8 u S), S = |u| + |v| + |w|. A value more than twice its bound from 0 has its
+   exact value's sign and at least its bound's magnitude: over 2^30 times the double retest's own
+   error on the same quantity, over 5 times a float retest's (with scale 1, required there), so
+   the retest sees that sign too. Certain misses: two edge functions of opposite signs (the ray
+   passes outside: the closed and the half-open test miss), or tz and det of opposite signs with
+   near_t >= 0 (the plane lies behind the origin: the retest's t is negative, at least 2^-67 in
+   magnitude). Only where M and |sz| lie in [2^-24, 2^24] (nothing overflows; what underflows
+   stays far below the bounds) and det and tz are finite; elsewhere 0, and the retest decides. */
+static inline CLVIS_ALWAYS_INLINE int clvis_float_misses(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
+                                                         const clvis_tri_2d* p, float near_t)
+{
+    float det = p->u + p->v + p->w, tz = clvis_triangle_tz(s, *p);
+    if (!clvis_finite(det) || !clvis_finite(tz)) return 0;
+    clvis_vec3 A = clvis_ray_translate(a, s.origin, 1.0f), B = clvis_ray_translate(b, s.origin, 1.0f);
+    clvis_vec3 C = clvis_ray_translate(c, s.origin, 1.0f);
+    float m = clvis_max3f(clvis_max_abs3(A), clvis_max_abs3(B), clvis_max_abs3(C)), z = clvis_absf(s.sz);
+    if (!(m >= 0x1p-24f && m <= 0x1p24f && z >= 0x1p-24f && z <= 0x1p24f)) return 0;
+#if !defined(CLVIS_HAVE_DOUBLE)
+    if (clvis_wide_scale(s, a, b, c) != 1.0f) return 0; /* a float retest's scaled products may underflow */
+#endif
+    float e = m * m * 0x1p-16f;
+    if (clvis_max3f(p->u, p->v, p->w) > 2.0f * e && clvis_min3f(p->u, p->v, p->w) < -2.0f * e) return 1;
+    if (!(near_t >= 0.0f)) return 0;
+    float sum = clvis_absf(p->u) + clvis_absf(p->v) + clvis_absf(p->w);
+    float et = z * m * (4.0f * e + 0x1p-21f * sum), ed = 4.0f * e + 0x1p-22f * sum;
+    return clvis_absf(tz) > 2.0f * et && clvis_absf(det) > 2.0f * ed && (tz < 0.0f) != (det < 0.0f);
+}
+
+/* clvis_project_triangle for a test over [near_t, ...]: 0 where the triangle is missed for certain
+   without the wide retest (clvis_float_misses; *p then holds the float projection), else 1 and
+   clvis_project_triangle's result. */
+static inline CLVIS_ALWAYS_INLINE int clvis_project_triangle_near(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b,
+                                                                  clvis_vec3 c, float near_t, clvis_tri_2d* p)
+{
+    clvis_project_triangle_scaled(s, a, b, c, 1.0f, p);
+    if (!p->wide && clvis_finite(p->u + p->v + p->w) && clvis_finite(clvis_triangle_tz(s, *p))) return 1;
+    if (clvis_float_misses(s, a, b, c, p, near_t)) return 0;
+    *p = clvis_project_triangle_wide_from(s, a, b, c, *p);
+    return 1;
 }
 
 /* The ray parameter of the projected triangle's plane (det = u + v + w, non-zero). */
@@ -309,7 +387,10 @@ static inline CLVIS_ALWAYS_INLINE int clvis_intersect_triangle(clvis_ray_shear s
                                                                float* t)
 {
     clvis_tri_2d p;
-    clvis_project_triangle(s, a, b, c, &p);
+    if (!clvis_project_triangle_near(s, a, b, c, near_t, &p)) {
+        *t = near_t;
+        return 0;
+    }
     int inside = (p.u >= 0.0f && p.v >= 0.0f && p.w >= 0.0f) || (p.u <= 0.0f && p.v <= 0.0f && p.w <= 0.0f);
     float det = p.u + p.v + p.w;
     float tt = clvis_triangle_t(s, p, det);
@@ -325,7 +406,7 @@ static inline CLVIS_ALWAYS_INLINE int clvis_intersect_triangle_plane(clvis_ray_s
                                                                      clvis_vec3 c, float near_t, float far_t, float* t,
                                                                      clvis_tri_2d* p, float* det)
 {
-    clvis_project_triangle(s, a, b, c, p);
+    if (!clvis_project_triangle_near(s, a, b, c, near_t, p)) return 0;
     int inside = (p->u >= 0.0f && p->v >= 0.0f && p->w >= 0.0f) || (p->u <= 0.0f && p->v <= 0.0f && p->w <= 0.0f);
     *det = p->u + p->v + p->w;
     if (!inside || *det == 0.0f) return 0;
@@ -358,7 +439,10 @@ static inline CLVIS_ALWAYS_INLINE int clvis_intersect_triangle_half_open(clvis_r
                                                                          float far_t, float* t)
 {
     clvis_tri_2d p;
-    clvis_project_triangle(s, a, b, c, &p);
+    if (!clvis_project_triangle_near(s, a, b, c, near_t, &p)) {
+        *t = near_t;
+        return 0;
+    }
     int su = clvis_edge_side(p.u, p.bx, p.by, p.cx, p.cy);
     int sv = clvis_edge_side(p.v, p.cx, p.cy, p.ax, p.ay);
     int sw = clvis_edge_side(p.w, p.ax, p.ay, p.bx, p.by);
