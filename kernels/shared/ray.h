@@ -117,14 +117,21 @@ static inline float clvis_min3f(float x, float y, float z) { float m = x < y ? x
 static inline float clvis_max3f(float x, float y, float z) { float m = x > y ? x : y; return m > z ? m : z; }
 
 /* Whether the float test can be trusted on a triangle whose vertices minus the ray's origin are
-   A, B and C: M <= CLVIS_RAY_RANGE d as above (false where a coordinate is not finite or NaN). */
-static inline int clvis_ray_trusted(clvis_vec3 A, clvis_vec3 B, clvis_vec3 C)
+   A, B and C: M <= CLVIS_RAY_RANGE d as above (false where a coordinate is not finite or NaN).
+   clvis_ray_extent returns M (the largest magnitude of A's, B's and C's coordinates, where they
+   are finite) and sets *gap to d. */
+static inline float clvis_ray_extent(clvis_vec3 A, clvis_vec3 B, clvis_vec3 C, float* gap)
 {
     float lx = clvis_min3f(A.x, B.x, C.x), hx = clvis_max3f(A.x, B.x, C.x);
     float ly = clvis_min3f(A.y, B.y, C.y), hy = clvis_max3f(A.y, B.y, C.y);
     float lz = clvis_min3f(A.z, B.z, C.z), hz = clvis_max3f(A.z, B.z, C.z);
-    float gap = clvis_max3f(lx > -hx ? lx : -hx, ly > -hy ? ly : -hy, lz > -hz ? lz : -hz);
-    float m = clvis_max3f(-lx > hx ? -lx : hx, -ly > hy ? -ly : hy, -lz > hz ? -lz : hz);
+    *gap = clvis_max3f(lx > -hx ? lx : -hx, ly > -hy ? ly : -hy, lz > -hz ? lz : -hz);
+    return clvis_max3f(-lx > hx ? -lx : hx, -ly > hy ? -ly : hy, -lz > hz ? -lz : hz);
+}
+
+static inline int clvis_ray_trusted(clvis_vec3 A, clvis_vec3 B, clvis_vec3 C)
+{
+    float gap, m = clvis_ray_extent(A, B, C, &gap);
     return m <= CLVIS_RAY_RANGE * gap;
 }
 
@@ -141,6 +148,7 @@ typedef struct clvis_tri_2d {
     float u, v, w;                  /* edge functions of b->c, c->a, a->b */
     float unscale;                  /* 1 / the scale applied to every coordinate */
     float t;                        /* wide: the ray parameter of the plane (else unused) */
+    float m;                        /* scale 1: clvis_ray_extent's M of the vertices minus the origin */
     clvis_i32 wide;                 /* computed by clvis_project_triangle_wide */
 } clvis_tri_2d;
 
@@ -179,8 +187,13 @@ static inline CLVIS_ALWAYS_INLINE void clvis_project_triangle_scaled(clvis_ray_s
     p.unscale = 1.0f / k;
     p.t = 0.0f;
     p.wide = 0;
+    p.m = 0.0f;
     /* Whether the float test can be trusted (clvis_ray_trusted) on the translated vertices */
-    if (k == 1.0f && !clvis_ray_trusted(A, B, C)) p.wide = 1;
+    if (k == 1.0f) {
+        float gap;
+        p.m = clvis_ray_extent(A, B, C, &gap);
+        if (!(p.m <= CLVIS_RAY_RANGE * gap)) p.wide = 1;
+    }
     *out = p;
 }
 
@@ -323,7 +336,7 @@ static inline CLVIS_ALWAYS_INLINE void clvis_project_triangle(clvis_ray_shear s,
    the wide retest, which would say so too, need not run (a miss either way: the same answer; on
    AO rays the triangle a ray starts on and its neighbours fail the trust check, and most of them
    are missed this way). p is the triangle projected with scale 1. Forward error bounds of the
-   float operations, with M the largest magnitude of the vertices minus the origin (each
+   float operations, with M the largest magnitude of the vertices minus the origin (p->m; each
    coordinate rounded once, |sx|, |sy| <= 1: a sheared coordinate is off by at most 5 u M,
    u = 2^-24): each edge function lies within e = 256 u M^2 of its exact value (at most 81 u M^2,
    the float form's and clvis_exact_edges' alike), det within 4 e + 4 u S and tz within
@@ -340,12 +353,14 @@ static inline CLVIS_ALWAYS_INLINE int clvis_float_misses(clvis_ray_shear s, clvi
 {
     float det = p->u + p->v + p->w, tz = clvis_triangle_tz(s, *p);
     if (!clvis_finite(det) || !clvis_finite(tz)) return 0;
-    clvis_vec3 A = clvis_ray_translate(a, s.origin, 1.0f), B = clvis_ray_translate(b, s.origin, 1.0f);
-    clvis_vec3 C = clvis_ray_translate(c, s.origin, 1.0f);
-    float m = clvis_max3f(clvis_max_abs3(A), clvis_max_abs3(B), clvis_max_abs3(C)), z = clvis_absf(s.sz);
+    float m = p->m, z = clvis_absf(s.sz); /* finite coordinates (det is): their largest magnitude */
     if (!(m >= 0x1p-24f && m <= 0x1p24f && z >= 0x1p-24f && z <= 0x1p24f)) return 0;
 #if !defined(CLVIS_HAVE_DOUBLE)
     if (clvis_wide_scale(s, a, b, c) != 1.0f) return 0; /* a float retest's scaled products may underflow */
+#else
+    (void)a;
+    (void)b;
+    (void)c;
 #endif
     float e = m * m * 0x1p-16f;
     if (clvis_max3f(p->u, p->v, p->w) > 2.0f * e && clvis_min3f(p->u, p->v, p->w) < -2.0f * e) return 1;
