@@ -324,11 +324,20 @@ static inline CLVIS_NOINLINE clvis_tri_2d clvis_project_triangle_wide_from(clvis
    private memory per triangle. The result goes out by pointer, not returned: a returned struct
    is a noalias (sret) argument, and inlining one emits llvm.experimental.noalias.scope.decl,
    which Oclgrind 21.10's interpreter cannot run. */
+/* Whether det and tz of a triangle projected with scale 1 are finite: tz is where det is and M (p->m)
+   and |sz| are at most 2^24 (|u|, |v|, |w| <= 8 M^2, |sz akz| <= |sz| M: |tz| < 2^101), so the
+   float test's triangles compute tz only once they are known to be inside. */
+static inline CLVIS_ALWAYS_INLINE int clvis_float_finite(clvis_ray_shear s, const clvis_tri_2d* p)
+{
+    if (!clvis_finite(p->u + p->v + p->w)) return 0;
+    return (p->m <= 0x1p24f && clvis_absf(s.sz) <= 0x1p24f) || clvis_finite(clvis_triangle_tz(s, *p));
+}
+
 static inline CLVIS_ALWAYS_INLINE void clvis_project_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b,
                                                               clvis_vec3 c, clvis_tri_2d* p)
 {
     clvis_project_triangle_scaled(s, a, b, c, 1.0f, p);
-    if (!p->wide && clvis_finite(p->u + p->v + p->w) && clvis_finite(clvis_triangle_tz(s, *p))) return;
+    if (!p->wide && clvis_float_finite(s, p)) return;
     *p = clvis_project_triangle_wide_from(s, a, b, c, *p);
 }
 
@@ -377,7 +386,7 @@ static inline CLVIS_ALWAYS_INLINE int clvis_project_triangle_near(clvis_ray_shea
                                                                   clvis_vec3 c, float near_t, clvis_tri_2d* p)
 {
     clvis_project_triangle_scaled(s, a, b, c, 1.0f, p);
-    if (!p->wide && clvis_finite(p->u + p->v + p->w) && clvis_finite(clvis_triangle_tz(s, *p))) return 1;
+    if (!p->wide && clvis_float_finite(s, p)) return 1;
     if (clvis_float_misses(s, a, b, c, p, near_t)) return 0;
     *p = clvis_project_triangle_wide_from(s, a, b, c, *p);
     return 1;
