@@ -307,8 +307,8 @@ static inline CLVIS_NOINLINE clvis_tri_2d clvis_project_triangle_wide(clvis_ray_
 
 /* clvis_project_triangle_wide given f, the triangle projected with scale 1: where the wide scale is
    1 too, f's 2D positions are the ones it would compute again (the same operations). */
-static inline CLVIS_NOINLINE clvis_tri_2d clvis_project_triangle_wide_from(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b,
-                                                                    clvis_vec3 c, clvis_tri_2d f)
+static inline CLVIS_NOINLINE clvis_tri_2d clvis_project_triangle_wide_from(clvis_ray_shear s, clvis_vec3 a,
+                                                                           clvis_vec3 b, clvis_vec3 c, clvis_tri_2d f)
 {
     float k = clvis_wide_scale(s, a, b, c);
     clvis_tri_2d p = f;
