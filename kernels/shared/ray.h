@@ -117,14 +117,21 @@ static inline float clvis_min3f(float x, float y, float z) { float m = x < y ? x
 static inline float clvis_max3f(float x, float y, float z) { float m = x > y ? x : y; return m > z ? m : z; }
 
 /* Whether the float test can be trusted on a triangle whose vertices minus the ray's origin are
-   A, B and C: M <= CLVIS_RAY_RANGE d as above (false where a coordinate is not finite or NaN). */
-static inline int clvis_ray_trusted(clvis_vec3 A, clvis_vec3 B, clvis_vec3 C)
+   A, B and C: M <= CLVIS_RAY_RANGE d as above (false where a coordinate is not finite or NaN).
+   clvis_ray_extent returns M (the largest magnitude of A's, B's and C's coordinates, where they
+   are finite) and sets *gap to d. */
+static inline float clvis_ray_extent(clvis_vec3 A, clvis_vec3 B, clvis_vec3 C, float* gap)
 {
     float lx = clvis_min3f(A.x, B.x, C.x), hx = clvis_max3f(A.x, B.x, C.x);
     float ly = clvis_min3f(A.y, B.y, C.y), hy = clvis_max3f(A.y, B.y, C.y);
     float lz = clvis_min3f(A.z, B.z, C.z), hz = clvis_max3f(A.z, B.z, C.z);
-    float gap = clvis_max3f(lx > -hx ? lx : -hx, ly > -hy ? ly : -hy, lz > -hz ? lz : -hz);
-    float m = clvis_max3f(-lx > hx ? -lx : hx, -ly > hy ? -ly : hy, -lz > hz ? -lz : hz);
+    *gap = clvis_max3f(lx > -hx ? lx : -hx, ly > -hy ? ly : -hy, lz > -hz ? lz : -hz);
+    return clvis_max3f(-lx > hx ? -lx : hx, -ly > hy ? -ly : hy, -lz > hz ? -lz : hz);
+}
+
+static inline int clvis_ray_trusted(clvis_vec3 A, clvis_vec3 B, clvis_vec3 C)
+{
+    float gap, m = clvis_ray_extent(A, B, C, &gap);
     return m <= CLVIS_RAY_RANGE * gap;
 }
 
@@ -141,6 +148,7 @@ typedef struct clvis_tri_2d {
     float u, v, w;                  /* edge functions of b->c, c->a, a->b */
     float unscale;                  /* 1 / the scale applied to every coordinate */
     float t;                        /* wide: the ray parameter of the plane (else unused) */
+    float m;                        /* scale 1: clvis_ray_extent's M of the vertices minus the origin */
     clvis_i32 wide;                 /* computed by clvis_project_triangle_wide */
 } clvis_tri_2d;
 
@@ -179,8 +187,13 @@ static inline CLVIS_ALWAYS_INLINE void clvis_project_triangle_scaled(clvis_ray_s
     p.unscale = 1.0f / k;
     p.t = 0.0f;
     p.wide = 0;
+    p.m = 0.0f;
     /* Whether the float test can be trusted (clvis_ray_trusted) on the translated vertices */
-    if (k == 1.0f && !clvis_ray_trusted(A, B, C)) p.wide = 1;
+    if (k == 1.0f) {
+        float gap;
+        p.m = clvis_ray_extent(A, B, C, &gap);
+        if (!(p.m <= CLVIS_RAY_RANGE * gap)) p.wide = 1;
+    }
     *out = p;
 }
 
@@ -190,90 +203,8 @@ static inline CLVIS_ALWAYS_INLINE float clvis_triangle_tz(clvis_ray_shear s, clv
     return p.u * (s.sz * p.akz) + p.v * (s.sz * p.bkz) + p.w * (s.sz * p.ckz);
 }
 
-/* Triangle (a, b, c) against the ray in wider arithmetic, for the triangles the float test cannot
-   be trusted with (clvis_ray_trusted): every coordinate scaled by clvis_ray_scale of the largest
-   magnitude (a power of two: exact, and nothing overflows in float), the vertices translated per
-   axis (no axis mixed into another before the products: a small coordinate beside huge ones
-   keeps its bits), the edge functions as triple products with the sheared direction
-   (sx, sy, 1), exactly the float form's u = cx by - cy bx expanded, and the plane's ray parameter
-   from its normal, N.A / N.D, which does not cancel the way the float form's sum of u akz, v bkz
-   and w ckz does when the vertices lie far beyond the hit. In double where the device has it
-   (rounding 2^-53 relative to each product), else in float. Each edge function is antisymmetric
-   bit for bit in its two vertices, so two such triangles sharing an edge stay watertight. The
-   edge functions come back divided by the largest of them (their signs and ratios, the
-   barycentrics, kept; float cannot hold their magnitudes). Out of line, by value: it is rare. */
-#if defined(CLVIS_HAVE_DOUBLE)
-typedef double clvis_wide;
-#else
-typedef float clvis_wide;
-#endif
-
-static inline clvis_wide clvis_wide_edge(clvis_wide sx, clvis_wide sy, const clvis_wide* B, const clvis_wide* C)
-{
-    return sx * (C[1] * B[2] - C[2] * B[1]) + sy * (C[2] * B[0] - C[0] * B[2]) + (C[0] * B[1] - C[1] * B[0]);
-}
-
-static inline clvis_wide clvis_wide_abs(clvis_wide x) { return x < 0 ? -x : x; }
-
-static CLVIS_NOINLINE clvis_tri_2d clvis_project_triangle_wide(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b,
-                                                               clvis_vec3 c)
-{
-    float m = clvis_max_abs3(a), mb = clvis_max_abs3(b), mc = clvis_max_abs3(c), mo = clvis_max_abs3(s.origin);
-    m = m > mb ? m : mb;
-    m = m > mc ? m : mc;
-    m = m > mo ? m : mo;
-    float k = clvis_ray_scale(m);
-    clvis_tri_2d p;
-    clvis_project_triangle_scaled(s, a, b, c, k, &p); /* the 2D positions, for clvis_edge_side */
-    clvis_vec3 v[3] = {a, b, c};
-    clvis_wide P[3][3], Q[3][3], o[3];
-    clvis_i32 axis[3] = {s.kx, s.ky, s.kz};
-    for (int j = 0; j < 3; ++j) o[j] = (clvis_wide)(clvis_component(s.origin, axis[j]) * k);
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-            Q[i][j] = (clvis_wide)(clvis_component(v[i], axis[j]) * k); /* the scaled vertex */
-            P[i][j] = Q[i][j] - o[j];                                   /* minus the origin */
-        }
-    clvis_wide sx = (clvis_wide)s.sx, sy = (clvis_wide)s.sy;
-    clvis_wide u = clvis_wide_edge(sx, sy, P[1], P[2]), vv = clvis_wide_edge(sx, sy, P[2], P[0]);
-    clvis_wide w = clvis_wide_edge(sx, sy, P[0], P[1]);
-    /* the plane: N = (q1 - q0) x (q2 - q0), the hit at N.P0 / N.D along D = (sx, sy, 1), from the
-       vertex q0 nearest the origin (the others may lie far beyond the hit: N.P0 cancels least) */
-    int i0 = 0;
-    clvis_wide near0 = -1;
-    for (int i = 0; i < 3; ++i) {
-        clvis_wide mi = clvis_wide_abs(P[i][0]);
-        mi = clvis_wide_abs(P[i][1]) > mi ? clvis_wide_abs(P[i][1]) : mi;
-        mi = clvis_wide_abs(P[i][2]) > mi ? clvis_wide_abs(P[i][2]) : mi;
-        if (near0 < 0 || mi < near0) {
-            near0 = mi;
-            i0 = i;
-        }
-    }
-    int i1 = i0 == 2 ? 0 : i0 + 1, i2 = i1 == 2 ? 0 : i1 + 1;
-    clvis_wide e1[3], e2[3];
-    for (int j = 0; j < 3; ++j) {
-        e1[j] = Q[i1][j] - Q[i0][j];
-        e2[j] = Q[i2][j] - Q[i0][j];
-    }
-    clvis_wide nx = e1[1] * e2[2] - e1[2] * e2[1], ny = e1[2] * e2[0] - e1[0] * e2[2];
-    clvis_wide nz = e1[0] * e2[1] - e1[1] * e2[0];
-    clvis_wide na = nx * P[i0][0] + ny * P[i0][1] + nz * P[i0][2], nd = nx * sx + ny * sy + nz;
-    p.t = (float)(na / nd * (clvis_wide)s.sz / (clvis_wide)k);
-    clvis_wide big = clvis_wide_abs(u);
-    big = clvis_wide_abs(vv) > big ? clvis_wide_abs(vv) : big;
-    big = clvis_wide_abs(w) > big ? clvis_wide_abs(w) : big;
-    if (big > 0) {
-        u /= big;
-        vv /= big;
-        w /= big;
-    }
-    p.u = (float)u;
-    p.v = (float)vv;
-    p.w = (float)w;
-    p.wide = 1;
-    return p;
-}
+/* the wide retest (clvis_project_triangle_wide), in a file of its own */
+#include "shared/ray_wide.h"
 
 /* The triangle in the ray's frame. Where the float test cannot be trusted (clvis_ray_trusted, or
    det or tz not finite: huge finite coordinates overflow), it is computed again in wider
@@ -282,12 +213,72 @@ static CLVIS_NOINLINE clvis_tri_2d clvis_project_triangle_wide(clvis_ray_shear s
    private memory per triangle. The result goes out by pointer, not returned: a returned struct
    is a noalias (sret) argument, and inlining one emits llvm.experimental.noalias.scope.decl,
    which Oclgrind 21.10's interpreter cannot run. */
+/* Whether det and tz of a triangle projected with scale 1 are finite: tz is where det is and M (p->m)
+   and |sz| are at most 2^24 (|u|, |v|, |w| <= 8 M^2, |sz akz| <= |sz| M: |tz| < 2^101), so the
+   float test's triangles compute tz only once they are known to be inside. */
+static inline CLVIS_ALWAYS_INLINE int clvis_float_finite(clvis_ray_shear s, const clvis_tri_2d* p)
+{
+    if (!clvis_finite(p->u + p->v + p->w)) return 0;
+    return (p->m <= 0x1p24f && clvis_absf(s.sz) <= 0x1p24f) || clvis_finite(clvis_triangle_tz(s, *p));
+}
+
 static inline CLVIS_ALWAYS_INLINE void clvis_project_triangle(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b,
                                                               clvis_vec3 c, clvis_tri_2d* p)
 {
     clvis_project_triangle_scaled(s, a, b, c, 1.0f, p);
-    if (!p->wide && clvis_finite(p->u + p->v + p->w) && clvis_finite(clvis_triangle_tz(s, *p))) return;
-    *p = clvis_project_triangle_wide(s, a, b, c);
+    if (!p->wide && clvis_float_finite(s, p)) return;
+    *p = clvis_project_triangle_wide_from(s, a, b, c, *p);
+}
+
+/* Whether a triangle that the float test cannot be trusted with is missed for certain, so that
+   the wide retest, which would say so too, need not run (a miss either way: the same answer; on
+   AO rays the triangle a ray starts on and its neighbours fail the trust check, and most of them
+   are missed this way). p is the triangle projected with scale 1. Forward error bounds of the
+   float operations, with M the largest magnitude of the vertices minus the origin (p->m; each
+   coordinate rounded once, |sx|, |sy| <= 1: a sheared coordinate is off by at most 5 u M,
+   u = 2^-24): each edge function lies within e = 256 u M^2 of its exact value (at most 81 u M^2,
+   the float form's and clvis_exact_edges' alike), det within 4 e + 4 u S and tz within
+   |sz| M (4 e + 8 u S), S = |u| + |v| + |w|. A value more than twice its bound from 0 has its
+   exact value's sign and at least its bound's magnitude: over 2^30 times the double retest's own
+   error on the same quantity, over 5 times a float retest's (with scale 1, required there), so
+   the retest sees that sign too. Certain misses: two edge functions of opposite signs (the ray
+   passes outside: the closed and the half-open test miss), or tz and det of opposite signs with
+   near_t >= 0 (the plane lies behind the origin: the retest's t is negative, at least 2^-67 in
+   magnitude). Only where M and |sz| lie in [2^-24, 2^24] (nothing overflows; what underflows
+   stays far below the bounds) and det and tz are finite; elsewhere 0, and the retest decides. */
+static inline CLVIS_ALWAYS_INLINE int clvis_float_misses(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b, clvis_vec3 c,
+                                                         const clvis_tri_2d* p, float near_t)
+{
+    float det = p->u + p->v + p->w, tz = clvis_triangle_tz(s, *p);
+    if (!clvis_finite(det) || !clvis_finite(tz)) return 0;
+    float m = p->m, z = clvis_absf(s.sz); /* finite coordinates (det is): their largest magnitude */
+    if (!(m >= 0x1p-24f && m <= 0x1p24f && z >= 0x1p-24f && z <= 0x1p24f)) return 0;
+#if !defined(CLVIS_HAVE_DOUBLE)
+    if (clvis_wide_scale(s, a, b, c) != 1.0f) return 0; /* a float retest's scaled products may underflow */
+#else
+    (void)a;
+    (void)b;
+    (void)c;
+#endif
+    float e = m * m * 0x1p-16f;
+    if (clvis_max3f(p->u, p->v, p->w) > 2.0f * e && clvis_min3f(p->u, p->v, p->w) < -2.0f * e) return 1;
+    if (!(near_t >= 0.0f)) return 0;
+    float sum = clvis_absf(p->u) + clvis_absf(p->v) + clvis_absf(p->w);
+    float et = z * m * (4.0f * e + 0x1p-21f * sum), ed = 4.0f * e + 0x1p-22f * sum;
+    return clvis_absf(tz) > 2.0f * et && clvis_absf(det) > 2.0f * ed && (tz < 0.0f) != (det < 0.0f);
+}
+
+/* clvis_project_triangle for a test over [near_t, ...]: 0 where the triangle is missed for certain
+   without the wide retest (clvis_float_misses; *p then holds the float projection), else 1 and
+   clvis_project_triangle's result. */
+static inline CLVIS_ALWAYS_INLINE int clvis_project_triangle_near(clvis_ray_shear s, clvis_vec3 a, clvis_vec3 b,
+                                                                  clvis_vec3 c, float near_t, clvis_tri_2d* p)
+{
+    clvis_project_triangle_scaled(s, a, b, c, 1.0f, p);
+    if (!p->wide && clvis_float_finite(s, p)) return 1;
+    if (clvis_float_misses(s, a, b, c, p, near_t)) return 0;
+    *p = clvis_project_triangle_wide_from(s, a, b, c, *p);
+    return 1;
 }
 
 /* The ray parameter of the projected triangle's plane (det = u + v + w, non-zero). */
@@ -309,7 +300,10 @@ static inline CLVIS_ALWAYS_INLINE int clvis_intersect_triangle(clvis_ray_shear s
                                                                float* t)
 {
     clvis_tri_2d p;
-    clvis_project_triangle(s, a, b, c, &p);
+    if (!clvis_project_triangle_near(s, a, b, c, near_t, &p)) {
+        *t = near_t;
+        return 0;
+    }
     int inside = (p.u >= 0.0f && p.v >= 0.0f && p.w >= 0.0f) || (p.u <= 0.0f && p.v <= 0.0f && p.w <= 0.0f);
     float det = p.u + p.v + p.w;
     float tt = clvis_triangle_t(s, p, det);
@@ -325,7 +319,7 @@ static inline CLVIS_ALWAYS_INLINE int clvis_intersect_triangle_plane(clvis_ray_s
                                                                      clvis_vec3 c, float near_t, float far_t, float* t,
                                                                      clvis_tri_2d* p, float* det)
 {
-    clvis_project_triangle(s, a, b, c, p);
+    if (!clvis_project_triangle_near(s, a, b, c, near_t, p)) return 0;
     int inside = (p->u >= 0.0f && p->v >= 0.0f && p->w >= 0.0f) || (p->u <= 0.0f && p->v <= 0.0f && p->w <= 0.0f);
     *det = p->u + p->v + p->w;
     if (!inside || *det == 0.0f) return 0;
@@ -358,7 +352,10 @@ static inline CLVIS_ALWAYS_INLINE int clvis_intersect_triangle_half_open(clvis_r
                                                                          float far_t, float* t)
 {
     clvis_tri_2d p;
-    clvis_project_triangle(s, a, b, c, &p);
+    if (!clvis_project_triangle_near(s, a, b, c, near_t, &p)) {
+        *t = near_t;
+        return 0;
+    }
     int su = clvis_edge_side(p.u, p.bx, p.by, p.cx, p.cy);
     int sv = clvis_edge_side(p.v, p.cx, p.cy, p.ax, p.ay);
     int sw = clvis_edge_side(p.w, p.ax, p.ay, p.bx, p.by);
