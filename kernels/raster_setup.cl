@@ -15,10 +15,13 @@
 #include "shared/scene_items.h"
 
 /* Triangles whose pixel bounding box holds at most CLVIS_RASTER_SCALAR pixel centres are
-   rasterized here sample by sample; those whose box is at most 8 pixels wide (one vector span)
-   and CLVIS_RASTER_SMALL_ROWS rows tall, here row by row; the rest are binned. */
-#define CLVIS_RASTER_SCALAR 4     /* pixel centres */
-#define CLVIS_RASTER_SMALL_ROWS 8 /* rows */
+   rasterized here sample by sample; those whose box is at most CLVIS_RASTER_SMALL_COLS pixels
+   wide and CLVIS_RASTER_SMALL_ROWS rows tall, and takes draw_small at most
+   CLVIS_RASTER_SMALL_PASSES passes of 16 pixels, here by draw_small; the rest are binned. */
+#define CLVIS_RASTER_SCALAR 4       /* pixel centres */
+#define CLVIS_RASTER_SMALL_COLS 16  /* columns: draw_small's 16 lanes */
+#define CLVIS_RASTER_SMALL_ROWS 16  /* rows */
+#define CLVIS_RASTER_SMALL_PASSES 6 /* passes of 16 pixels */
 
 typedef struct {
     clvis_camera_gpu cam;
@@ -100,6 +103,20 @@ static void prefetch_rows(const clvis_raster_tri* t, raster_setup_out out)
 #endif
 }
 
+/* log2 of the columns of draw_small's passes for a box w pixels wide (1 .. 16): the fewest of
+   1, 2, 4, 8, 16 that hold it. */
+static inline int small_columns_log2(int w)
+{
+    return w > 8 ? 4 : w > 4 ? 3 : w > 2 ? 2 : w - 1;
+}
+
+/* The passes draw_small takes for a box of w by h pixels. */
+static inline int small_passes(int w, int h)
+{
+    int rows_log2 = 4 - small_columns_log2(w);
+    return (h + (1 << rows_log2) - 1) >> rows_log2;
+}
+
 /* The keys of the 16 lanes of draw_small's pass at row j (lane l: pixel (x0 + l % c, j + l / c),
    c = 2^c_log2 columns, rows past y1 read as row y1: their lanes are never covered), one sample
    per pixel and one layer; x0 + c must not pass the region's width. */
@@ -108,6 +125,7 @@ static inline CLVIS_ALWAYS_INLINE ulong16 held_keys(volatile __global ulong* key
 {
     __global const ulong* p = (__global const ulong*)keys + (size_t)x0;
 #define CLVIS_ROW(k) (p + (size_t)min(j + (k), y1) * width)
+    if (c_log2 == 4) return vload16(0, CLVIS_ROW(0));
     if (c_log2 == 3) return (ulong16)(vload8(0, CLVIS_ROW(0)), vload8(0, CLVIS_ROW(1)));
     if (c_log2 == 2)
         return (ulong16)(vload4(0, CLVIS_ROW(0)), vload4(0, CLVIS_ROW(1)), vload4(0, CLVIS_ROW(2)),
@@ -122,11 +140,11 @@ static inline CLVIS_ALWAYS_INLINE ulong16 held_keys(volatile __global ulong* key
 #undef CLVIS_ROW
 }
 
-/* Rasterizes a triangle whose box is at most 8 pixels wide: its box's pixels go 16 to a pass, as
-   c = 1, 2, 4 or 8 columns (the fewest that hold its width) by 16 / c rows, so that a narrow
+/* Rasterizes a triangle whose box is at most 16 pixels wide: its box's pixels go 16 to a pass, as
+   c = 1, 2, 4, 8 or 16 columns (the fewest that hold its width) by 16 / c rows, so that a narrow
    triangle takes a pass per 16 / c rows, not one per row. Each lane's edge values are the same
    integers as clvis_raster_sample's (exact int64 sums at points within raster.h's square: at
-   most 8 px past the image's right edge and 16 rows below the box), its depth the same float operations in the
+   most 7 px past the image's right edge and 16 rows below the box), its depth the same float operations in the
    same order (clvis_raster_span8's), so each key is the same bits. Lanes outside the box, not
    covered, or outside [near, far] draw nothing. */
 static inline CLVIS_ALWAYS_INLINE void draw_small(const clvis_raster_tri* t, raster_setup_out out)
@@ -136,8 +154,8 @@ static inline CLVIS_ALWAYS_INLINE void draw_small(const clvis_raster_tri* t, ras
 #if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
     size_t plane = ((size_t)out.region.width * (size_t)out.region.height) << n_log2; /* keys per layer */
 #endif
-    int w = t->x1 - t->x0 + 1; /* 1 .. 8 */
-    int c_log2 = w > 4 ? 3 : w > 2 ? 2 : w - 1;
+    int w = t->x1 - t->x0 + 1; /* 1 .. 16 */
+    int c_log2 = small_columns_log2(w);
     int rows = 16 >> c_log2;
     const int16 lane = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
     int16 di = lane & (int16)((1 << c_log2) - 1);
@@ -228,7 +246,8 @@ emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_raster_vertex 
 #if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
     size_t plane = ((size_t)out.region.width * (size_t)out.region.height) << n_log2; /* keys per layer */
 #endif
-    int small = t.x1 - t.x0 < 8 && t.y1 - t.y0 < CLVIS_RASTER_SMALL_ROWS;
+    int small = t.x1 - t.x0 < CLVIS_RASTER_SMALL_COLS && t.y1 - t.y0 < CLVIS_RASTER_SMALL_ROWS &&
+                small_passes(t.x1 - t.x0 + 1, t.y1 - t.y0 + 1) <= CLVIS_RASTER_SMALL_PASSES;
     if (small && !out.fetched) prefetch_rows(&t, out);
     if ((t.x1 - t.x0 + 1) * (t.y1 - t.y0 + 1) <= CLVIS_RASTER_SCALAR) {
         for (int j = t.y0; j <= t.y1; ++j) {
@@ -295,8 +314,8 @@ static clvis_raster_vertex widen(clvis_raster_projected p)
    id + CLVIS_PREFETCH_AHEAD into the cache (PoCL runs a work-group's work-items one after
    another on a core), so that the misses of a triangle's keys overlap the work of those before
    it. Its box is taken from the projected vertices' pixels (a pixel wider than its centres'
-   box at most); only a triangle that needs no clipping and may be drawn here (at most 8 by 8
-   pixels) is fetched. A hint only: the same keys are drawn with or without it. */
+   box at most); only a triangle that needs no clipping and may be drawn here (draw_small's)
+   is fetched. A hint only: the same keys are drawn with or without it. */
 #define CLVIS_PREFETCH_AHEAD 8
 static void prefetch_ahead(__global const uint* indices, __global const clvis_raster_projected* projected, uint id,
                            uint triangle_count, raster_setup_out out)
@@ -313,7 +332,7 @@ static void prefetch_ahead(__global const uint* indices, __global const clvis_ra
     y0 = max(y0, 0);
     x1 = min(x1, out.region.width - 1);
     y1 = min(y1, out.region.height - 1);
-    if (x0 > x1 || y0 > y1 || x1 - x0 > 8 || y1 - y0 > CLVIS_RASTER_SMALL_ROWS) return;
+    if (x0 > x1 || y0 > y1 || x1 - x0 > CLVIS_RASTER_SMALL_COLS || y1 - y0 > CLVIS_RASTER_SMALL_ROWS) return;
     int n_log2 = out.cam.sample_log2;
     size_t last = (size_t)(x1 - x0) << n_log2;
     for (int j = y0; j <= y1; ++j) {
