@@ -31,7 +31,6 @@ typedef struct {
     uint capacity;
     volatile __global uint* listed; /* 2 words: triangles listed, low and high 32 bits */
     clvis_region region;            /* keys hold this region of the image (shared/region.h) */
-    int fetched;                    /* the key rows were prefetched ahead (prefetch_ahead) */
 } raster_setup_out;
 
 static clvis_clip_vertex load_camera_vertex(clvis_camera_gpu cam, __global const float* positions, uint v)
@@ -87,8 +86,8 @@ static void draw_key(volatile __global ulong* p, ulong key)
 
 /* CLVIS_PREFETCH (PoCL's CPU device, Device::Impl::cpu_hints): the rows of keys a small
    triangle draws are fetched into the cache before its samples are computed, so that their misses
-   overlap instead of each stalling a draw_key in turn (a row's first and last key: at most two
-   lines). A hint only: the same keys are drawn with or without it. */
+   overlap instead of each stalling a draw_key in turn (a row's first and last key: two of its
+   lines, of at most three). A hint only: the same keys are drawn with or without it. */
 static void prefetch_rows(const clvis_raster_tri* t, raster_setup_out out)
 {
 #ifdef CLVIS_PREFETCH
@@ -144,8 +143,8 @@ static inline CLVIS_ALWAYS_INLINE ulong16 held_keys(volatile __global ulong* key
    c = 1, 2, 4, 8 or 16 columns (the fewest that hold its width) by 16 / c rows, so that a narrow
    triangle takes a pass per 16 / c rows, not one per row. Each lane's edge values are the same
    integers as clvis_raster_sample's (exact int64 sums at points within raster.h's square: at
-   most 7 px past the image's right edge and 16 rows below the box), its depth the same float operations in the
-   same order (clvis_raster_span8's), so each key is the same bits. Lanes outside the box, not
+   most 7 px past the image's right edge and 16 rows below the box), its depth the same float
+   operations in the same order (clvis_raster_span8's), so each key is the same bits. Lanes outside the box, not
    covered, or outside [near, far] draw nothing. */
 static inline CLVIS_ALWAYS_INLINE void draw_small(const clvis_raster_tri* t, raster_setup_out out)
 {
@@ -248,7 +247,7 @@ emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_raster_vertex 
 #endif
     int small = t.x1 - t.x0 < CLVIS_RASTER_SMALL_COLS && t.y1 - t.y0 < CLVIS_RASTER_SMALL_ROWS &&
                 small_passes(t.x1 - t.x0 + 1, t.y1 - t.y0 + 1) <= CLVIS_RASTER_SMALL_PASSES;
-    if (small && !out.fetched) prefetch_rows(&t, out);
+    if (small) prefetch_rows(&t, out);
     if ((t.x1 - t.x0 + 1) * (t.y1 - t.y0 + 1) <= CLVIS_RASTER_SCALAR) {
         for (int j = t.y0; j <= t.y1; ++j) {
             for (int i = t.x0; i <= t.x1; ++i) {
@@ -309,41 +308,6 @@ static clvis_raster_vertex widen(clvis_raster_projected p)
     return v;
 }
 
-#if defined(CLVIS_PREFETCH) && !defined(CLVIS_RASTER_OWNED)
-/* CLVIS_PREFETCH: raster_setup's work-item for triangle id also fetches the key rows of triangle
-   id + CLVIS_PREFETCH_AHEAD into the cache (PoCL runs a work-group's work-items one after
-   another on a core), so that the misses of a triangle's keys overlap the work of those before
-   it. Its box is taken from the projected vertices' pixels (a pixel wider than its centres'
-   box at most); only a triangle that needs no clipping and may be drawn here (draw_small's)
-   is fetched. A hint only: the same keys are drawn with or without it. */
-#define CLVIS_PREFETCH_AHEAD 8
-static void prefetch_ahead(__global const uint* indices, __global const clvis_raster_projected* projected, uint id,
-                           uint triangle_count, raster_setup_out out)
-{
-    if (id >= triangle_count) return;
-    size_t i = 3 * (size_t)id;
-    clvis_raster_projected a = projected[indices[i]], b = projected[indices[i + 1]], c = projected[indices[i + 2]];
-    if ((a.code | b.code | c.code) & CLVIS_OUT_CLIP) return;
-    int x0 = (min(min(a.x, b.x), c.x) >> CLVIS_SUBPIXEL_BITS) - out.region.x;
-    int x1 = (max(max(a.x, b.x), c.x) >> CLVIS_SUBPIXEL_BITS) - out.region.x;
-    int y0 = (min(min(a.y, b.y), c.y) >> CLVIS_SUBPIXEL_BITS) - out.region.y;
-    int y1 = (max(max(a.y, b.y), c.y) >> CLVIS_SUBPIXEL_BITS) - out.region.y;
-    x0 = max(x0, 0);
-    y0 = max(y0, 0);
-    x1 = min(x1, out.region.width - 1);
-    y1 = min(y1, out.region.height - 1);
-    if (x0 > x1 || y0 > y1 || x1 - x0 > CLVIS_RASTER_SMALL_COLS || y1 - y0 > CLVIS_RASTER_SMALL_ROWS) return;
-    int n_log2 = out.cam.sample_log2;
-    size_t last = (size_t)(x1 - x0) << n_log2;
-    for (int j = y0; j <= y1; ++j) {
-        __global const ulong* row =
-            (__global const ulong*)out.keys + (((size_t)j * (size_t)out.region.width + (size_t)x0) << n_log2);
-        CLVIS_PREFETCH_LINE(row);
-        CLVIS_PREFETCH_LINE(row + last);
-    }
-}
-#endif
-
 /* Emits a triangle that needs no clipping and returns 0, or returns 1 for one that needs it
    (nothing for one wholly outside a side of the view). */
 static int emit_unclipped(clvis_raster_projected pa, clvis_raster_projected pb, clvis_raster_projected pc, uint id,
@@ -364,11 +328,7 @@ __kernel void raster_setup(clvis_camera_gpu cam, __global const float* positions
     if (id >= triangle_count) return;
     size_t i = 3 * (size_t)id;
     uint a = indices[i], b = indices[i + 1], c = indices[i + 2];
-    raster_setup_out out = {cam, cull, keys, tris, capacity, listed, region, 0};
-#if defined(CLVIS_PREFETCH) && !defined(CLVIS_RASTER_OWNED)
-    out.fetched = 1;
-    prefetch_ahead(indices, projected, id + CLVIS_PREFETCH_AHEAD, triangle_count, out);
-#endif
+    raster_setup_out out = {cam, cull, keys, tris, capacity, listed, region};
     if (emit_unclipped(projected[a], projected[b], projected[c], id, out))
         clip_and_emit(load_camera_vertex(cam, positions, a), load_camera_vertex(cam, positions, b),
                       load_camera_vertex(cam, positions, c), id, clvis_guard_of(cam), out);
@@ -419,7 +379,7 @@ __kernel void raster_setup_items(clvis_camera_gpu cam, __global const float* pos
     uint a = indices[i], b = indices[i + 1], c = indices[i + 2];
     __global const clvis_raster_projected* own =
         projected + (size_t)(clvis_item_first_vertex(items + item) - clvis_item_first_vertex(items + first_item));
-    raster_setup_out out = {cam, cull, keys, tris, capacity, listed, region, 0};
+    raster_setup_out out = {cam, cull, keys, tris, capacity, listed, region};
     item_chunk k = {positions, meshes, items};
     if (emit_unclipped(own[a], own[b], own[c], id, out))
         clip_and_emit(item_camera_vertex(cam, k, item, a), item_camera_vertex(cam, k, item, b),
