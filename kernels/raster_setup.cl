@@ -15,10 +15,13 @@
 #include "shared/scene_items.h"
 
 /* Triangles whose pixel bounding box holds at most CLVIS_RASTER_SCALAR pixel centres are
-   rasterized here sample by sample; those whose box is at most 8 pixels wide (one vector span)
-   and CLVIS_RASTER_SMALL_ROWS rows tall, here row by row; the rest are binned. */
-#define CLVIS_RASTER_SCALAR 4     /* pixel centres */
-#define CLVIS_RASTER_SMALL_ROWS 8 /* rows */
+   rasterized here sample by sample; those whose box is at most CLVIS_RASTER_SMALL_COLS pixels
+   wide and CLVIS_RASTER_SMALL_ROWS rows tall, and takes draw_small at most
+   CLVIS_RASTER_SMALL_PASSES passes of 16 pixels, here by draw_small; the rest are binned. */
+#define CLVIS_RASTER_SCALAR 4       /* pixel centres */
+#define CLVIS_RASTER_SMALL_COLS 16  /* columns: draw_small's 16 lanes */
+#define CLVIS_RASTER_SMALL_ROWS 16  /* rows */
+#define CLVIS_RASTER_SMALL_PASSES 6 /* passes of 16 pixels */
 
 typedef struct {
     clvis_camera_gpu cam;
@@ -83,8 +86,8 @@ static void draw_key(volatile __global ulong* p, ulong key)
 
 /* CLVIS_PREFETCH (PoCL's CPU device, Device::Impl::cpu_hints): the rows of keys a small
    triangle draws are fetched into the cache before its samples are computed, so that their misses
-   overlap instead of each stalling a draw_key in turn (a row's first and last key: at most two
-   lines). A hint only: the same keys are drawn with or without it. */
+   overlap instead of each stalling a draw_key in turn (a row's first and last key: two of its
+   lines, of at most three). A hint only: the same keys are drawn with or without it. */
 static void prefetch_rows(const clvis_raster_tri* t, raster_setup_out out)
 {
 #ifdef CLVIS_PREFETCH
@@ -97,6 +100,122 @@ static void prefetch_rows(const clvis_raster_tri* t, raster_setup_out out)
         CLVIS_PREFETCH_LINE(row + last);
     }
 #endif
+}
+
+/* log2 of the columns of draw_small's passes for a box w pixels wide (1 .. 16): the fewest of
+   1, 2, 4, 8, 16 that hold it. */
+static inline int small_columns_log2(int w)
+{
+    return w > 8 ? 4 : w > 4 ? 3 : w > 2 ? 2 : w - 1;
+}
+
+/* The passes draw_small takes for a box of w by h pixels. */
+static inline int small_passes(int w, int h)
+{
+    int rows_log2 = 4 - small_columns_log2(w);
+    return (h + (1 << rows_log2) - 1) >> rows_log2;
+}
+
+/* The keys of the 16 lanes of draw_small's pass at row j (lane l: pixel (x0 + l % c, j + l / c),
+   c = 2^c_log2 columns, rows past y1 read as row y1: their lanes are never covered), one sample
+   per pixel and one layer; x0 + c must not pass the region's width. */
+static inline CLVIS_ALWAYS_INLINE ulong16 held_keys(volatile __global ulong* keys, size_t width, int x0, int j, int y1,
+                                                    int c_log2)
+{
+    __global const ulong* p = (__global const ulong*)keys + (size_t)x0;
+#define CLVIS_ROW(k) (p + (size_t)min(j + (k), y1) * width)
+    if (c_log2 == 4) return vload16(0, CLVIS_ROW(0));
+    if (c_log2 == 3) return (ulong16)(vload8(0, CLVIS_ROW(0)), vload8(0, CLVIS_ROW(1)));
+    if (c_log2 == 2)
+        return (ulong16)(vload4(0, CLVIS_ROW(0)), vload4(0, CLVIS_ROW(1)), vload4(0, CLVIS_ROW(2)),
+                         vload4(0, CLVIS_ROW(3)));
+    if (c_log2 == 1)
+        return (ulong16)(vload2(0, CLVIS_ROW(0)), vload2(0, CLVIS_ROW(1)), vload2(0, CLVIS_ROW(2)),
+                         vload2(0, CLVIS_ROW(3)), vload2(0, CLVIS_ROW(4)), vload2(0, CLVIS_ROW(5)),
+                         vload2(0, CLVIS_ROW(6)), vload2(0, CLVIS_ROW(7)));
+    return (ulong16)(*CLVIS_ROW(0), *CLVIS_ROW(1), *CLVIS_ROW(2), *CLVIS_ROW(3), *CLVIS_ROW(4), *CLVIS_ROW(5),
+                     *CLVIS_ROW(6), *CLVIS_ROW(7), *CLVIS_ROW(8), *CLVIS_ROW(9), *CLVIS_ROW(10), *CLVIS_ROW(11),
+                     *CLVIS_ROW(12), *CLVIS_ROW(13), *CLVIS_ROW(14), *CLVIS_ROW(15));
+#undef CLVIS_ROW
+}
+
+/* Rasterizes a triangle whose box is at most 16 pixels wide: its box's pixels go 16 to a pass, as
+   c = 1, 2, 4, 8 or 16 columns (the fewest that hold its width) by 16 / c rows, so that a narrow
+   triangle takes a pass per 16 / c rows, not one per row. Each lane's edge values are the same
+   integers as clvis_raster_sample's (exact int64 sums at points within raster.h's square: at
+   most 7 px past the image's right edge and 16 rows below the box), its depth the same float
+   operations in the same order (clvis_raster_span8's), so each key is the same bits. Lanes outside the box, not
+   covered, or outside [near, far] draw nothing. */
+static inline CLVIS_ALWAYS_INLINE void draw_small(const clvis_raster_tri* t, raster_setup_out out)
+{
+    int n_log2 = out.cam.sample_log2;
+    size_t sample = (size_t)out.cam.sample;
+#if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
+    size_t plane = ((size_t)out.region.width * (size_t)out.region.height) << n_log2; /* keys per layer */
+#endif
+    int w = t->x1 - t->x0 + 1; /* 1 .. 16 */
+    int c_log2 = small_columns_log2(w);
+    int rows = 16 >> c_log2;
+    const int16 lane = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    int16 di = lane & (int16)((1 << c_log2) - 1);
+    int16 dj = lane >> (int16)(c_log2);
+    long16 di64 = convert_long16(di), dj64 = convert_long16(dj);
+    long16 o0 = di64 * t->ex[0] + dj64 * t->ey[0];
+    long16 o1 = di64 * t->ex[1] + dj64 * t->ey[1];
+    long16 o2 = di64 * t->ex[2] + dj64 * t->ey[2];
+    long r0 = t->e0[0] + (long)t->x0 * t->ex[0] + (long)t->y0 * t->ey[0];
+    long r1 = t->e0[1] + (long)t->x0 * t->ex[1] + (long)t->y0 * t->ey[1];
+    long r2 = t->e0[2] + (long)t->x0 * t->ex[2] + (long)t->y0 * t->ey[2];
+    long s0 = (long)rows * t->ey[0], s1 = (long)rows * t->ey[1], s2 = (long)rows * t->ey[2];
+    int16 in_x = di < (int16)(w);
+#if defined(CLVIS_PEEK) && !(defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1)
+    const int16 weight = (int16)(1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384, 32768);
+    int peek = n_log2 == 0 && t->x0 + (1 << c_log2) <= out.region.width;
+#endif
+    for (int j = t->y0; j <= t->y1; j += rows, r0 += s0, r1 += s1, r2 += s2) {
+        long16 e0 = (long16)(r0) + o0;
+        long16 e1 = (long16)(r1) + o1;
+        long16 e2 = (long16)(r2) + o2;
+        long16 inside = ((e0 | e1 | e2) >= 0) & convert_long16(in_x & (dj <= (int16)(t->y1 - j)));
+        float16 v = (float16)(t->wc) + convert_float16(e0) * t->w[0] + convert_float16(e1) * t->w[1] +
+                    convert_float16(e2) * t->w[2];
+        float16 d = out.cam.ortho ? v : 1.0f / v;
+        int16 take = convert_int16(inside) & ((d >= out.cam.near_d) & (d <= out.cam.far_d));
+        ulong16 key = (convert_ulong16(as_uint16(d)) << 32) | (ulong16)(t->id);
+        ulong keys[16];
+#if defined(CLVIS_PEEK) && !(defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1)
+        if (peek) {
+            /* draw_key's test for the 16 keys at once (depth words compared): the lanes whose
+               pixel is not already nearer take the atomic, found by a mask (the .lo | .hi folds
+               crash Oclgrind 21.10's uninitialised-value check: PoCL's build only). */
+            take &= convert_int16((key >> 32) <= (held_keys(out.keys, (size_t)out.region.width, t->x0, j, t->y1,
+                                                            c_log2) >> 32));
+            int16 bit = take & weight;
+            int8 b8 = bit.lo | bit.hi;
+            int4 b4 = b8.lo | b8.hi;
+            int2 b2 = b4.lo | b4.hi;
+            uint mask = (uint)(b2.lo | b2.hi);
+            if (mask == 0u) continue;
+            vstore16(key, 0, keys);
+            for (; mask != 0u; mask &= mask - 1u) {
+                int l = 31 - (int)clz(mask & (0u - mask));
+                atom_min(out.keys + (size_t)(j + (l >> c_log2)) * (size_t)out.region.width +
+                             (size_t)(t->x0 + (l & ((1 << c_log2) - 1))) + sample,
+                         keys[l]);
+            }
+            continue;
+        }
+#endif
+        int takes[16];
+        vstore16(take, 0, takes);
+        vstore16(key, 0, keys);
+        for (int l = 0; l < 16; ++l) {
+            if (!takes[l]) continue;
+            size_t x = (size_t)(t->x0 + (l & ((1 << c_log2) - 1)));
+            size_t y = (size_t)(j + (l >> c_log2));
+            draw_key(out.keys + ((y * (size_t)out.region.width + x) << n_log2) + sample, keys[l]);
+        }
+    }
 }
 #endif
 
@@ -126,7 +245,8 @@ emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_raster_vertex 
 #if defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1
     size_t plane = ((size_t)out.region.width * (size_t)out.region.height) << n_log2; /* keys per layer */
 #endif
-    int small = t.x1 - t.x0 < 8 && t.y1 - t.y0 < CLVIS_RASTER_SMALL_ROWS;
+    int small = t.x1 - t.x0 < CLVIS_RASTER_SMALL_COLS && t.y1 - t.y0 < CLVIS_RASTER_SMALL_ROWS &&
+                small_passes(t.x1 - t.x0 + 1, t.y1 - t.y0 + 1) <= CLVIS_RASTER_SMALL_PASSES;
     if (small) prefetch_rows(&t, out);
     if ((t.x1 - t.x0 + 1) * (t.y1 - t.y0 + 1) <= CLVIS_RASTER_SCALAR) {
         for (int j = t.y0; j <= t.y1; ++j) {
@@ -139,36 +259,7 @@ emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_raster_vertex 
         return;
     }
     if (small) {
-        long r0 = t.e0[0] + (long)t.x0 * t.ex[0] + (long)t.y0 * t.ey[0];
-        long r1 = t.e0[1] + (long)t.x0 * t.ex[1] + (long)t.y0 * t.ey[1];
-        long r2 = t.e0[2] + (long)t.x0 * t.ex[2] + (long)t.y0 * t.ey[2];
-        for (int j = t.y0; j <= t.y1; ++j, r0 += t.ey[0], r1 += t.ey[1], r2 += t.ey[2]) {
-            ulong8 key = clvis_raster_span8(r0, r1, r2, t.ex[0], t.ex[1], t.ex[2], t.wc, t.w[0], t.w[1], t.w[2], t.id,
-                                            t.x1 - t.x0 + 1, out.cam.ortho, out.cam.near_d, out.cam.far_d);
-            if (all(key == (ulong8)(CLVIS_BACKGROUND_KEY))) continue;
-            ulong lane[8];
-            vstore8(key, 0, lane);
-            volatile __global ulong* row =
-                out.keys + (((size_t)j * (size_t)out.region.width + (size_t)t.x0) << n_log2) + sample;
-#if defined(CLVIS_PEEK) && !(defined(CLVIS_LAYERS) && CLVIS_LAYERS > 1)
-            if (n_log2 == 0 && t.x0 + 8 <= out.region.width) {
-                /* draw_key's test for the row's 8 keys at once (its depth words compared): the
-                   lanes the triangle covers whose pixel is not already nearer take the atomic. */
-                ulong8 held = vload8(0, (__global const ulong*)row);
-                long8 take = (key != (ulong8)(CLVIS_BACKGROUND_KEY)) & ((key >> 32) <= (held >> 32));
-                long8 bit = take & (long8)(1, 2, 4, 8, 16, 32, 64, 128);
-                long4 b4 = bit.lo | bit.hi;
-                long2 b2 = b4.lo | b4.hi;
-                for (uint mask = (uint)(b2.lo | b2.hi); mask != 0u; mask &= mask - 1u) {
-                    int l = 31 - (int)clz(mask & (0u - mask));
-                    atom_min(&row[l], lane[l]);
-                }
-                continue;
-            }
-#endif
-            for (int l = 0; l < 8; ++l)
-                if (lane[l] != CLVIS_BACKGROUND_KEY) draw_key(&row[(size_t)l << n_log2], lane[l]);
-        }
+        draw_small(&t, out);
         return;
     }
 #endif
