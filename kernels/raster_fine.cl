@@ -68,7 +68,7 @@ raster_fine_layers(__global const clvis_raster_tri* tris, __global const uint* e
             for (int s = s0; s <= s1; ++s, q0 += 8 * ex0, q1 += 8 * ex1, q2 += 8 * ex2) {
                 int x = px0 + 8 * s, count = min(8, px1 - x + 1);
                 ulong8 key = clvis_raster_span8(q0, q1, q2, ex0, ex1, ex2, wc, w0, w1, w2, id, count, cam.ortho,
-                                                cam.near_d, cam.far_d);
+                                                cam.near_d, cam.far_d, 0);
                 if (all(key == (ulong8)(CLVIS_BACKGROUND_KEY))) continue;
                 ulong lane[8];
                 vstore8(key, 0, lane);
@@ -162,7 +162,7 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
             long q0 = r0, q1 = r1, q2 = r2;
             for (int s = s0; s <= s1; ++s, q0 += 8 * ex0, q1 += 8 * ex1, q2 += 8 * ex2) {
                 ulong8 key = clvis_raster_span8(q0, q1, q2, ex0, ex1, ex2, wc, w0, w1, w2, id,
-                                                min(8, px1 - (px0 + 8 * s) + 1), cam.ortho, cam.near_d, cam.far_d);
+                                                min(8, px1 - (px0 + 8 * s) + 1), cam.ortho, cam.near_d, cam.far_d, 0);
                 best[j - py0][s] = min(best[j - py0][s], key);
             }
         }

@@ -144,7 +144,7 @@ emit_triangle(clvis_raster_vertex a, clvis_raster_vertex b, clvis_raster_vertex 
         long r2 = t.e0[2] + (long)t.x0 * t.ex[2] + (long)t.y0 * t.ey[2];
         for (int j = t.y0; j <= t.y1; ++j, r0 += t.ey[0], r1 += t.ey[1], r2 += t.ey[2]) {
             ulong8 key = clvis_raster_span8(r0, r1, r2, t.ex[0], t.ex[1], t.ex[2], t.wc, t.w[0], t.w[1], t.w[2], t.id,
-                                            t.x1 - t.x0 + 1, out.cam.ortho, out.cam.near_d, out.cam.far_d);
+                                            t.x1 - t.x0 + 1, out.cam.ortho, out.cam.near_d, out.cam.far_d, 1);
             if (all(key == (ulong8)(CLVIS_BACKGROUND_KEY))) continue;
             ulong lane[8];
             vstore8(key, 0, lane);
