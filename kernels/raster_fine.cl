@@ -10,6 +10,7 @@
    clear and no atomics). */
 #include "shared/layers.h"
 #include "shared/raster.h"
+#include "shared/raster_stream.h"
 
 #define CLVIS_FINE_AHEAD 4 /* bin entries: how far ahead a triangle is prefetched (CLVIS_PREFETCH) */
 
@@ -68,7 +69,7 @@ raster_fine_layers(__global const clvis_raster_tri* tris, __global const uint* e
             for (int s = s0; s <= s1; ++s, q0 += 8 * ex0, q1 += 8 * ex1, q2 += 8 * ex2) {
                 int x = px0 + 8 * s, count = min(8, px1 - x + 1);
                 ulong8 key = clvis_raster_span8(q0, q1, q2, ex0, ex1, ex2, wc, w0, w1, w2, id, count, cam.ortho,
-                                                cam.near_d, cam.far_d);
+                                                cam.near_d, cam.far_d, 0);
                 if (all(key == (ulong8)(CLVIS_BACKGROUND_KEY))) continue;
                 ulong lane[8];
                 vstore8(key, 0, lane);
@@ -81,10 +82,11 @@ raster_fine_layers(__global const clvis_raster_tri* tris, __global const uint* e
 }
 #endif
 
-__kernel void raster_fine(__global const clvis_raster_tri* tris, __global const uint* entries,
-                          __global const uint* offsets, int tile_log2, int tiles_x, clvis_camera_gpu cam,
-                          __global ulong* keys, clvis_region region, uint first, uint chunk, int merge,
-                          uint capacity)
+/* raster_fine's work-item: its square, from its bin to its keys. */
+static inline CLVIS_ALWAYS_INLINE void
+raster_fine_square(__global const clvis_raster_tri* tris, __global const uint* entries, __global const uint* offsets,
+                   int tile_log2, int tiles_x, clvis_camera_gpu cam, __global ulong* keys, clvis_region region,
+                   uint first, uint chunk, int merge, uint capacity, int stream)
 {
     int sub = min(1 << tile_log2, CLVIS_FINE_SUB);
     int px0 = (int)get_global_id(0) * sub, py0 = (int)get_global_id(1) * sub;
@@ -98,13 +100,18 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
     return;
 #endif
     int n_log2 = cam.sample_log2;
+    /* Every key of the square written as it is (tile ownership's first launch), a line at a time:
+       streamed past the cache when the host asks (`stream`: keys large against the cache, a
+       CLVIS_STREAM build, shared/raster_stream.h), as the atomic depth test's clear does. */
+    int lines = !merge && n_log2 == 0;
+    stream = stream && lines;
     if (begin == end) { /* an empty bin (or chunk): nothing to merge, or the background to write */
         if (merge) return;
         for (int j = py0; j <= py1; ++j) {
             __global ulong* row = keys + (((size_t)j * (size_t)region.width + (size_t)px0) << n_log2) + (size_t)cam.sample;
             int i = 0;
-            if (n_log2 == 0)
-                for (; i + 8 <= px1 - px0 + 1; i += 8) vstore8((ulong8)(CLVIS_BACKGROUND_KEY), 0, row + i);
+            if (lines && clvis_stream_aligned(row))
+                for (; i + 8 <= px1 - px0 + 1; i += 8) clvis_stream_line(row + i, (ulong8)(CLVIS_BACKGROUND_KEY), stream);
             for (; i <= px1 - px0; ++i) row[(size_t)i << n_log2] = CLVIS_BACKGROUND_KEY;
         }
         return;
@@ -162,7 +169,7 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
             long q0 = r0, q1 = r1, q2 = r2;
             for (int s = s0; s <= s1; ++s, q0 += 8 * ex0, q1 += 8 * ex1, q2 += 8 * ex2) {
                 ulong8 key = clvis_raster_span8(q0, q1, q2, ex0, ex1, ex2, wc, w0, w1, w2, id,
-                                                min(8, px1 - (px0 + 8 * s) + 1), cam.ortho, cam.near_d, cam.far_d);
+                                                min(8, px1 - (px0 + 8 * s) + 1), cam.ortho, cam.near_d, cam.far_d, 0);
                 best[j - py0][s] = min(best[j - py0][s], key);
             }
         }
@@ -185,7 +192,9 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
             /* the camera's sample of each pixel: samples of a pixel are adjacent (shared/samples.h) */
             __global ulong* row = keys + (((size_t)j * (size_t)region.width + (size_t)i0) << n_log2) + (size_t)cam.sample;
             if (merge && all(b == (ulong8)(CLVIS_BACKGROUND_KEY))) continue; /* nothing to merge */
-            if (count == 8 && n_log2 == 0) {
+            if (count == 8 && lines && clvis_stream_aligned(row)) {
+                clvis_stream_line(row, b, stream);
+            } else if (count == 8 && n_log2 == 0) {
                 vstore8(merge ? min(b, vload8(0, row)) : b, 0, row);
             } else {
                 ulong lane[8];
@@ -197,6 +206,21 @@ __kernel void raster_fine(__global const clvis_raster_tri* tris, __global const 
             }
         }
     }
+}
+
+__kernel void raster_fine(__global const clvis_raster_tri* tris, __global const uint* entries,
+                          __global const uint* offsets, int tile_log2, int tiles_x, clvis_camera_gpu cam,
+                          __global ulong* keys, clvis_region region, uint first, uint chunk, int merge,
+                          uint capacity, int stream)
+{
+    raster_fine_square(tris, entries, offsets, tile_log2, tiles_x, cam, keys, region, first, chunk, merge, capacity,
+                       stream);
+#ifdef CLVIS_STREAM
+    /* Streamed lines: one fence per work-group once every work-item's lines are out, as in
+       visibility_clear.cl (a fence per work-item waits for each square's lines in turn). */
+    barrier(CLK_GLOBAL_MEM_FENCE);
+    if (stream && get_local_id(0) == 0 && get_local_id(1) == 0) clvis_stream_fence();
+#endif
 }
 
 /* The same stage mapped for GPUs (RasterMapping::Pixel): a work-group owns a square of

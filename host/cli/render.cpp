@@ -468,7 +468,7 @@ void add_render_command(CLI::App& app)
     add_choice(*cmd, "--cull", o.cull, "face culling: none, back or front");
     add_choice(*cmd, "--raster-atomics", o.raster_atomics,
                "raster depth test: on (64-bit atomics), off (tile ownership, no atomics) or auto (on where "
-               "the device has 64-bit atomics); the same keys either way");
+               "the device has 64-bit atomics, but off for frames of few triangles on PoCL's CPU device); the same keys either way");
     add_choice(*cmd, "--raster-mapping", o.raster_mapping,
                "raster fine stage: square (CPUs), pixel (GPUs) or auto (measured per device, cached); same keys");
     add_choice(*cmd, "--ray-mapping", o.ray_mapping,

@@ -48,10 +48,15 @@ void RasterPipeline::Impl::zero_words(Frame& frame, cl::Buffer& buffer, std::siz
     frame.stages->add(stage, done);
 }
 
+std::uint64_t RasterPipeline::Impl::frame_key_bytes(const Frame& frame)
+{
+    std::uint64_t pixels = std::uint64_t(frame.width) * std::uint64_t(frame.height);
+    return (pixels << frame.gpu_camera.sample_log2) * std::uint64_t(frame.layers) * sizeof(cl_ulong);
+}
+
 void RasterPipeline::Impl::clear_frame(Frame& frame)
 {
-    cl_ulong pixels = cl_ulong(frame.width) * cl_ulong(frame.height);
-    cl_ulong count = (pixels << frame.gpu_camera.sample_log2) * cl_ulong(frame.layers);
+    cl_ulong count = frame_key_bytes(frame) / sizeof(cl_ulong);
     clear.setArg(0, frame.keys);
     clear.setArg(1, count);
     clear.setArg(2, cl_int(count * sizeof(cl_ulong) >= stream_bytes)); // past the cache (raster_stream.h)
@@ -123,14 +128,14 @@ void RasterPipeline::Impl::set_setup_outputs(cl::Kernel& k, cl_uint first, Frame
 void RasterPipeline::Impl::render_sample(const DeviceScene& scene, Frame& frame, bool project)
 {
     if (project) project_vertices(scene, frame);
+    cl::Kernel& k = frame_owned && !owned ? owned_setup : setup;
     draw_sample(frame, [&](cl::Event& done) {
-        setup.setArg(0, sizeof frame.gpu_camera, &frame.gpu_camera);
-        setup.setArg(1, scene.positions);
-        setup.setArg(2, scene.indices);
-        setup.setArg(3, cl_uint(scene.triangle_count));
-        set_setup_outputs(setup, 4, frame);
-        frame.queue.enqueueNDRangeKernel(setup, cl::NullRange,
-                                         cl::NDRange(round_up(scene.triangle_count, setup_group)),
+        k.setArg(0, sizeof frame.gpu_camera, &frame.gpu_camera);
+        k.setArg(1, scene.positions);
+        k.setArg(2, scene.indices);
+        k.setArg(3, cl_uint(scene.triangle_count));
+        set_setup_outputs(k, 4, frame);
+        frame.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(scene.triangle_count, setup_group)),
                                          cl::NDRange(setup_group), nullptr, &done);
     }, false);
 }
@@ -151,6 +156,7 @@ cl_uint RasterPipeline::Impl::set_item_args(cl::Kernel& k, const InstancedScene&
 
 void RasterPipeline::Impl::render_items(const InstancedScene& scene, Frame& frame, std::size_t chunk_triangles)
 {
+    frame_owned = owned;
     clear_frame(frame);
     int samples = 1 << frame.gpu_camera.sample_log2;
     for (const ItemChunk& c : scene.chunks(chunk_triangles)) {
@@ -180,6 +186,14 @@ void RasterPipeline::Impl::render_items(const InstancedScene& scene, Frame& fram
     frame.gpu_camera.sample = 0;
 }
 
+bool RasterPipeline::Impl::owns_frame(const DeviceScene& scene, const Frame& frame) const
+{
+    if (owned) return true;
+    if (!own_small) return false;
+    std::uint64_t keys = (std::uint64_t(frame.width) * std::uint64_t(frame.height)) << frame.gpu_camera.sample_log2;
+    return std::uint64_t(scene.triangle_count) * owned_keys_per_triangle <= keys;
+}
+
 void RasterPipeline::Impl::render(const DeviceScene& scene, Frame& frame)
 {
     if (scene.triangle_count == 0) {
@@ -193,7 +207,12 @@ void RasterPipeline::Impl::render(const DeviceScene& scene, Frame& frame)
     prepare_frame(frame);
     // Tile ownership writes every key of the sample in raster_fine.cl: no clear.
     int samples = 1 << frame.gpu_camera.sample_log2;
-    if (!owned) clear_frame(frame);
+    frame_owned = owns_frame(scene, frame);
+    if (frame_owned && !owned && !owned_setup()) { // own_small's first such frame: its setup built
+        owned_setup = cl::Kernel(device.program("raster_setup", owned_setup_options), "raster_setup");
+        while (setup_group > granted(owned_setup)) setup_group /= 2; // a power of two within both grants
+    }
+    if (!frame_owned) clear_frame(frame);
     // One pass per sample (shared/samples.h): setup moves the snapped vertices by minus the
     // sample's offset, and every stage after it is the one-sample path's.
     for (int sample = 0; sample < samples; ++sample) {
@@ -262,7 +281,10 @@ void RasterPipeline::Impl::launch_fine(Frame& frame, int tiles_x, cl_ulong first
     if (pixel) fine.setArg(12, cl::Local(fine_group[0] * fine_group[1] * sizeof(clvis_raster_tri)));
     cl::Event drawn;
     fine.setArg(8, cl_uint(first));
-    fine.setArg(10, cl_int(merge || !owned || first > 0)); // setup drew (atomics), or an earlier launch did
+    bool merged = merge || !frame_owned || first > 0; // setup drew (atomics), or an earlier launch did
+    fine.setArg(10, cl_int(merged));
+    if (!pixel) // every key written as it is: past the cache where the clear would stream (raster_stream.h)
+        fine.setArg(12, cl_int(!merged && frame_key_bytes(frame) >= stream_bytes));
     frame.queue.enqueueNDRangeKernel(fine, cl::NullRange, fine_global, fine_group, nullptr, &drawn);
     frame.stages->add("raster", drawn);
 }
@@ -286,6 +308,8 @@ RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& option
         auto with_layers = [&](std::string define) {
             return layers.empty() ? define : define.empty() ? layers : define + " " + layers;
         };
+        m.own_small = options.raster_atomics == RasterAtomics::Auto && !m.owned && !m.pixel && device.cpu_hints();
+        m.owned_setup_options = with_layers("-DCLVIS_RASTER_OWNED");
         cl::Program setup = device.program("raster_setup", with_layers(m.owned              ? "-DCLVIS_RASTER_OWNED"
                                                                        : device.cpu_hints() ? "-DCLVIS_PREFETCH=1 -DCLVIS_PEEK=1"
                                                                                             : ""));
@@ -298,7 +322,7 @@ RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& option
         m.bin_count = cl::Kernel(bin, "raster_bin_count");
         m.bin_scan = cl::Kernel(bin, "raster_bin_scan");
         m.bin_fill = cl::Kernel(bin, "raster_bin_fill");
-        m.fine = cl::Kernel(device.program("raster_fine", with_layers(device.cpu_hints() ? "-DCLVIS_PREFETCH=1" : "")),
+        m.fine = cl::Kernel(device.program("raster_fine", with_layers(device.cpu_hints() ? "-DCLVIS_PREFETCH=1 -DCLVIS_STREAM=1" : "")),
                             m.pixel ? "raster_fine_pixel" : "raster_fine");
         m.pick_groups();
         m.plan_fine_chunks();

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 namespace clvis::detail {
 
@@ -39,11 +40,21 @@ struct RasterPipeline::Impl {
     int tile_log2;
     int cull = CLVIS_CULL_NONE;
     bool owned = false; ///< tile ownership: raster_setup.cl built with CLVIS_RASTER_OWNED
+    /// RasterAtomics::Auto on PoCL's CPU device (square mapping): a frame of few triangles for its
+    /// keys (owns_frame) is drawn by tile ownership too, with owned_setup (the same keys).
+    bool own_small = false;
+    bool frame_owned = false; ///< the frame being drawn is drawn by tile ownership
+    /// Keys per triangle, at least, of a frame that own_small draws by tile ownership: there,
+    /// binning every triangle costs less than the clear and the merge's reads it saves (issue 37;
+    /// on PoCL at 1080p a 64k-triangle sphere still gains, a 256k one loses).
+    static constexpr std::size_t owned_keys_per_triangle = 16;
     bool pixel = false; ///< RasterMapping::Pixel: raster_fine_pixel
     std::uint32_t loop_limit = Device::Impl::loop_unlimited; ///< the device's, measured
     std::uint32_t fine_chunk = 0xFFFFFFFFu; ///< bin entries per launch of raster_fine.cl
     cl::Kernel clear, zero, vertices, setup, bin_count, bin_scan, bin_fill, fine;
     cl::Kernel item_vertices, item_setup; ///< the same two stages for a chunk of items
+    cl::Kernel owned_setup; ///< raster_setup built with CLVIS_RASTER_OWNED, for own_small (made on first use)
+    std::string owned_setup_options; ///< its build options
     /// Clears of at least this many bytes stream their lines past the cache (visibility_clear_lines):
     /// a quarter of the device's global memory cache, or 4 MiB where it reports none.
     std::uint64_t stream_bytes = std::uint64_t(4) << 20;
@@ -89,6 +100,8 @@ struct RasterPipeline::Impl {
     void prepare_frame(Frame& frame);
 
     // Launches (raster_pipeline.cpp).
+    /// Bytes of the frame's keys: every sample and layer.
+    static std::uint64_t frame_key_bytes(const Frame& frame);
     /// Writes the background into every key of the frame (every sample and layer): visibility_clear_lines.
     void clear_frame(Frame& frame);
     /// Zeroes the first `count` 32-bit words of `buffer` (a kernel: Oclgrind then sees them written).
@@ -113,6 +126,9 @@ struct RasterPipeline::Impl {
     /// A scene with instances: every chunk of items projected, set up and drawn per sample, each
     /// merged into the keys (cleared first, whatever the depth test).
     void render_items(const InstancedScene& scene, Frame& frame, std::size_t chunk_triangles);
+    /// Whether `frame` of `scene` is drawn by tile ownership: always when owned, and own_small's
+    /// frames of at most one triangle per owned_keys_per_triangle keys.
+    bool owns_frame(const DeviceScene& scene, const Frame& frame) const;
     /// Every sample of `frame` for a scene without instances (the clear included unless owned).
     void render(const DeviceScene& scene, Frame& frame);
     /// Bins what setup listed (the count read on the device, the launch over the list's capacity):

@@ -97,7 +97,8 @@ struct Region {
 
 /// How the raster path keeps the nearest key of a pixel. Both give the same keys, bit for bit.
 enum class RasterAtomics {
-    Auto, ///< 64-bit atomics where the device offers cl_khr_int64_base/extended_atomics, else Off
+    Auto, ///< 64-bit atomics where the device offers cl_khr_int64_base/extended_atomics, else Off;
+          ///< on PoCL's CPU device a frame with at most one triangle per 16 keys is drawn as Off
     On,   ///< small triangles drawn at setup with 64-bit atomic min, the others binned and merged;
           ///< refused (Error(Device)) on a device without 64-bit atomics
     Off,  ///< tile ownership: every triangle binned, each pixel's nearest key kept in the private
