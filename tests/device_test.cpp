@@ -9,8 +9,60 @@
 #include <clvis/clvis.hpp>
 
 #include <cstdlib>
+#include <vector>
+
+#if defined(__linux__)
+#include <sched.h>
+#include <unistd.h>
+#endif
+#include <string>
 
 using namespace clvis;
+
+namespace {
+// Read during static initialization, before any OpenCL call of this process.
+const char* const caller_pocl_affinity = std::getenv("POCL_AFFINITY");
+const char* const caller_pocl_max_cu = std::getenv("POCL_CPU_MAX_CU_COUNT");
+} // namespace
+
+TEST_CASE("PoCL's workers are pinned only where the caller left it to clvis and every CPU is ours", "[device][pocl]")
+{
+    using detail::pin_pocl_workers;
+    CHECK(pin_pocl_workers(nullptr, nullptr, 2, {0, 1}));
+    CHECK(pin_pocl_workers(nullptr, nullptr, 4, {3, 1, 0, 2}));
+    CHECK_FALSE(pin_pocl_workers("0", nullptr, 2, {0, 1}));     // the caller's value wins
+    CHECK_FALSE(pin_pocl_workers("1", nullptr, 2, {0, 1}));     // already theirs: left as it is
+    CHECK_FALSE(pin_pocl_workers(nullptr, "8", 2, {0, 1}));     // a pool larger than the CPUs
+    CHECK_FALSE(pin_pocl_workers(nullptr, nullptr, 4, {2, 3})); // taskset, cpuset, mpirun binding
+    CHECK_FALSE(pin_pocl_workers(nullptr, nullptr, 4, {0, 1})); // CPU 2 would be outside the mask
+    CHECK_FALSE(pin_pocl_workers(nullptr, nullptr, 2, {1, 2})); // CPU 0 not ours
+    CHECK_FALSE(pin_pocl_workers(nullptr, nullptr, 1, {0}));    // one CPU: nothing to place
+    CHECK_FALSE(pin_pocl_workers(nullptr, nullptr, 2, {}));     // no mask read
+
+    // This process: listing the devices made the decision once, before PoCL started its workers.
+    (void)list_devices();
+    const char* now = std::getenv("POCL_AFFINITY");
+    if (caller_pocl_affinity) {
+        REQUIRE(now != nullptr);
+        CHECK(std::string(now) == caller_pocl_affinity);
+    } else if (!caller_pocl_max_cu) {
+#if defined(__linux__)
+        cpu_set_t mask;
+        CPU_ZERO(&mask);
+        std::vector<int> allowed;
+        if (sched_getaffinity(0, sizeof mask, &mask) == 0)
+            for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu)
+                if (CPU_ISSET(cpu, &mask)) allowed.push_back(cpu);
+        bool pinned = pin_pocl_workers(nullptr, nullptr, sysconf(_SC_NPROCESSORS_ONLN), allowed);
+        CHECK((now != nullptr) == pinned);
+        if (now) CHECK(std::string(now) == "1");
+#else
+        CHECK(now == nullptr);
+#endif
+    } else {
+        CHECK(now == nullptr);
+    }
+}
 
 TEST_CASE("the test device is PoCL's CPU device with 64-bit atomics", "[device][pocl]")
 {

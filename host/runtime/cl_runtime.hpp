@@ -12,11 +12,32 @@
 #include <new>
 #include <mutex>
 #include <string>
+#include <vector>
 
 namespace clvis::detail {
 
 /// "CL_OUT_OF_RESOURCES" for -5, ..., "CL_UNKNOWN_ERROR(-1234)" otherwise.
 std::string cl_error_name(cl_int code);
+
+/// Whether clvis asks PoCL to pin its CPU device's worker threads (POCL_AFFINITY=1: worker i on
+/// CPU i). PoCL's workers sleep between commands; unpinned, the scheduler often leaves the woken
+/// worker on the core of the worker that woke it, and a kernel of a few milliseconds ends before
+/// the load balancer moves it: frames then run on one core in streaks (on 2 cores the bunny's
+/// 1280x720 ray frame took 5.2 or 9.3 ms, round after round, when interleaved with other
+/// renderers in `clvis bench`; pinned, 5.0-5.8). Only where it is safe and wanted:
+///  - pocl_affinity (the caller's POCL_AFFINITY) unset: any value of theirs wins, 0 turns it off;
+///  - pocl_max_cu (POCL_CPU_MAX_CU_COUNT) unset: a larger pool would be pinned to CPUs that do
+///    not exist, which PoCL treats as fatal;
+///  - the process may run on exactly the online CPUs 0 to online-1 (taskset, cgroup cpusets and
+///    mpirun's core binding restrict it; there CPU i may be outside the mask);
+///  - at least 2 CPUs.
+bool pin_pocl_workers(const char* pocl_affinity, const char* pocl_max_cu, long online,
+                      const std::vector<int>& allowed_cpus);
+
+/// Sets POCL_AFFINITY=1 once per process where pin_pocl_workers says so (Linux), before clvis's
+/// first clGetPlatformIDs: PoCL reads it as it starts its workers, at the process's first
+/// clGetPlatformIDs, so a process whose OpenCL was initialized before clvis keeps its pool.
+void pin_pocl_workers_once();
 
 /// Throws Error(Device): "<what>: <CL call> failed with <CL_ERROR_NAME>".
 [[noreturn]] void throw_cl_error(const cl::Error& e, const std::string& what);

@@ -16,6 +16,11 @@
 #include <mutex>
 #include <sstream>
 
+#if defined(__linux__)
+#include <sched.h>
+#include <unistd.h>
+#endif
+
 namespace clvis::detail {
 
 std::string cl_error_name(cl_int code)
@@ -100,6 +105,36 @@ const std::string& embedded_kernel(const std::string& name)
     throw Error(Error::Kind::Build, "no embedded kernel named '" + name + "'");
 }
 
+bool pin_pocl_workers(const char* pocl_affinity, const char* pocl_max_cu, long online,
+                      const std::vector<int>& allowed_cpus)
+{
+    if (pocl_affinity || pocl_max_cu) return false;
+    if (online < 2 || long(allowed_cpus.size()) != online) return false;
+    std::vector<int> sorted = allowed_cpus;
+    std::sort(sorted.begin(), sorted.end());
+    for (long cpu = 0; cpu < online; ++cpu)
+        if (sorted[std::size_t(cpu)] != cpu) return false;
+    return true;
+}
+
+void pin_pocl_workers_once()
+{
+#if defined(__linux__)
+    static std::once_flag once;
+    std::call_once(once, [] {
+        long online = sysconf(_SC_NPROCESSORS_ONLN);
+        cpu_set_t mask;
+        CPU_ZERO(&mask);
+        std::vector<int> allowed;
+        if (sched_getaffinity(0, sizeof mask, &mask) == 0)
+            for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu)
+                if (CPU_ISSET(cpu, &mask)) allowed.push_back(cpu);
+        if (pin_pocl_workers(std::getenv("POCL_AFFINITY"), std::getenv("POCL_CPU_MAX_CU_COUNT"), online, allowed))
+            setenv("POCL_AFFINITY", "1", 0);
+    });
+#endif
+}
+
 namespace {
 
 const char* no_platform_help =
@@ -109,6 +144,7 @@ const char* no_platform_help =
 
 std::vector<cl::Platform> platforms()
 {
+    pin_pocl_workers_once();
     std::vector<cl::Platform> list;
     cl_int err = CL_SUCCESS;
     try {
