@@ -217,6 +217,10 @@ expect(0 "\"height\": 40.*\"width\": 80" render ${WORK}/scene.json --path all --
 # The raster path's depth test, chosen or resolved from the device, is reported.
 expect(0 "\"raster_atomics\": \"off\"" render ${MESH} ${size} --raster-atomics off --json)
 expect(0 "\"raster_atomics\": \"o[nf]f?\"" render ${MESH} ${size} --json)
+# Auto as the frame drew it: spot's 5856 triangles over 400x300 keys are few enough for tile
+# ownership on PoCL's CPU device (at most one a 16 keys), over 64x48 they are not.
+expect(0 "\"raster_atomics\": \"off\"" render ${MESH} --width 400 --height 300 --quiet --json)
+expect(0 "\"raster_atomics\": \"on\"" render ${MESH} ${size} --raster-atomics auto --json)
 # The raster fine stage's mapping, chosen or measured, is reported with where it came from.
 expect(0 "\"raster_mapping\": \"pixel\"" render ${MESH} ${size} --raster-mapping pixel --json)
 expect(0 "\"raster_mapping\": \"square\",[ \n]+\"raster_mapping_source\": \"option\"" render ${MESH} ${size} --raster-mapping square --json)

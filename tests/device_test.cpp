@@ -23,6 +23,7 @@ namespace {
 // Read during static initialization, before any OpenCL call of this process.
 const char* const caller_pocl_affinity = std::getenv("POCL_AFFINITY");
 const char* const caller_pocl_max_cu = std::getenv("POCL_CPU_MAX_CU_COUNT");
+const char* const caller_pocl_threads = std::getenv("POCL_MAX_PTHREAD_COUNT");
 } // namespace
 
 TEST_CASE("PoCL's workers are pinned only where the caller left it to clvis and every CPU is ours", "[device][pocl]")
@@ -33,6 +34,11 @@ TEST_CASE("PoCL's workers are pinned only where the caller left it to clvis and 
     CHECK_FALSE(pin_pocl_workers("0", nullptr, 2, {0, 1}));     // the caller's value wins
     CHECK_FALSE(pin_pocl_workers("1", nullptr, 2, {0, 1}));     // already theirs: left as it is
     CHECK_FALSE(pin_pocl_workers(nullptr, "8", 2, {0, 1}));     // a pool larger than the CPUs
+    CHECK(pin_pocl_workers(nullptr, "2", 2, {0, 1}));           // a pool within them
+    CHECK(pin_pocl_workers(nullptr, "1", 4, {0, 1, 2, 3}));
+    CHECK_FALSE(pin_pocl_workers(nullptr, "0", 2, {0, 1}));
+    CHECK_FALSE(pin_pocl_workers(nullptr, "2x", 2, {0, 1}));    // not a number: PoCL's to read
+    CHECK_FALSE(pin_pocl_workers(nullptr, "", 2, {0, 1}));
     CHECK_FALSE(pin_pocl_workers(nullptr, nullptr, 4, {2, 3})); // taskset, cpuset, mpirun binding
     CHECK_FALSE(pin_pocl_workers(nullptr, nullptr, 4, {0, 1})); // CPU 2 would be outside the mask
     CHECK_FALSE(pin_pocl_workers(nullptr, nullptr, 2, {1, 2})); // CPU 0 not ours
@@ -45,7 +51,7 @@ TEST_CASE("PoCL's workers are pinned only where the caller left it to clvis and 
     if (caller_pocl_affinity) {
         REQUIRE(now != nullptr);
         CHECK(std::string(now) == caller_pocl_affinity);
-    } else if (!caller_pocl_max_cu) {
+    } else {
 #if defined(__linux__)
         cpu_set_t mask;
         CPU_ZERO(&mask);
@@ -53,14 +59,14 @@ TEST_CASE("PoCL's workers are pinned only where the caller left it to clvis and 
         if (sched_getaffinity(0, sizeof mask, &mask) == 0)
             for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu)
                 if (CPU_ISSET(cpu, &mask)) allowed.push_back(cpu);
-        bool pinned = pin_pocl_workers(nullptr, nullptr, sysconf(_SC_NPROCESSORS_ONLN), allowed);
+        long online = sysconf(_SC_NPROCESSORS_ONLN);
+        bool pinned = pin_pocl_workers(nullptr, caller_pocl_max_cu, online, allowed) &&
+                      (!caller_pocl_threads || pin_pocl_workers(nullptr, caller_pocl_threads, online, allowed));
         CHECK((now != nullptr) == pinned);
         if (now) CHECK(std::string(now) == "1");
 #else
         CHECK(now == nullptr);
 #endif
-    } else {
-        CHECK(now == nullptr);
     }
 }
 

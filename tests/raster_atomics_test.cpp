@@ -188,3 +188,23 @@ TEST_CASE("a device's loop cap is measured, and long bins are drawn in chunks wi
         CHECK(std::string(e.what()).find("after 200 iterations") != std::string::npos);
     }
 }
+
+TEST_CASE("a frame reports the depth test Auto drew it with", "[device][raster][pocl]")
+{
+    Device d = Device::open(); // ctest pins CLVIS_DEVICE=cpu: PoCL's CPU device, 64-bit atomics
+    REQUIRE(d.info().int64_atomics);
+    Scene s = spot(); // about 5.9k triangles: tile ownership from 16 keys a triangle (94k keys)
+    Camera c = Camera::framing(s.bounds());
+    auto drawn = [&](RasterAtomics mode, int w, int h, Path path = Path::Raster) {
+        RenderOptions o;
+        o.raster_atomics = mode;
+        Renderer r(d, s, o);
+        r.render(c, w, h, path);
+        return r.last_frame().raster_atomics;
+    };
+    CHECK(drawn(RasterAtomics::Auto, 400, 300) == RasterAtomics::Off); // few triangles a key: owned
+    CHECK(drawn(RasterAtomics::Auto, 64, 64) == RasterAtomics::On);    // many: atomics
+    CHECK(drawn(RasterAtomics::On, 400, 300) == RasterAtomics::On);
+    CHECK(drawn(RasterAtomics::Off, 64, 64) == RasterAtomics::Off);
+    CHECK(drawn(RasterAtomics::Auto, 400, 300, Path::Ray) == RasterAtomics::Auto);
+}

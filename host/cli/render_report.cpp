@@ -176,8 +176,12 @@ nlohmann::json render_json(const RenderJson& run, Renderer& renderer, const std:
     j["height"] = run.height;
     const DeviceInfo& device = renderer.device().info();
     j["device"] = device.name;
-    // The raster path's depth test as Auto resolves it (RasterPipeline: atomics where offered).
-    const RasterAtomics atomics = run.options.raster_atomics;
+    // The raster path's depth test as its frames drew (FrameTiming::raster_atomics: Auto picks
+    // tile ownership for few triangles on PoCL's CPU device); without a raster frame, as Auto
+    // would resolve it for a frame of many triangles (atomics where offered).
+    RasterAtomics atomics = run.options.raster_atomics;
+    for (const auto& r : results)
+        if (r.path == Path::Raster && r.fastest.raster_atomics != RasterAtomics::Auto) atomics = r.fastest.raster_atomics;
     j["raster_atomics"] = atomics != RasterAtomics::Auto ? to_string(atomics) : device.int64_atomics ? "on" : "off";
     put_mapping(j, "raster_mapping", to_string(run.options.raster_mapping),
                 ran(results, Path::Raster) ? &renderer.raster_mapping() : nullptr, "square",

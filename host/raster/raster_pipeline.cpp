@@ -334,6 +334,8 @@ RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& option
 
 RasterPipeline::~RasterPipeline() = default;
 
+bool RasterPipeline::frame_owned() const { return impl_->frame_owned; }
+
 void RasterPipeline::render(const DeviceScene& scene, Frame& frame) { impl_->render(scene, frame); }
 
 void RasterPipeline::render(const InstancedScene& scene, Frame& frame, std::size_t chunk_triangles)

@@ -34,6 +34,10 @@ public:
     /// The same for a scene with instances, without its expansion: chunks of whole items of at
     /// most `chunk_triangles` triangles (or one item), each merged into the keys.
     void render(const InstancedScene& scene, Frame& frame, std::size_t chunk_triangles);
+    /// Whether the last frame enqueued was drawn by tile ownership (RasterAtomics::Off's depth
+    /// test, which Auto picks for a device without 64-bit atomics and, on PoCL's CPU device, for a
+    /// frame of few triangles) rather than by 64-bit atomics.
+    bool frame_owned() const;
 
     struct Impl;
 

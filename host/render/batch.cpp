@@ -131,14 +131,15 @@ Renderer::Impl& check_views(Renderer& renderer, const std::vector<Camera>& camer
     return m;
 }
 
-/// Waits for the batch and records its timing (frame_ms from `t0`).
-void finish_views(Renderer::Impl& m, std::chrono::steady_clock::time_point t0)
+/// Waits for the batch and records its timing (frame_ms from `t0`) and the raster depth test.
+void finish_views(Renderer::Impl& m, Path path, std::chrono::steady_clock::time_point t0)
 {
     m.queue.finish();
     m.last.frame_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     std::optional<std::vector<StageTiming>> measured = m.stages.collect_sum();
     m.last.stages_measured = measured.has_value();
     m.last.stages = measured ? std::move(*measured) : std::vector<StageTiming>{};
+    m.last.raster_atomics = m.raster_depth_test(path); // the views of a batch share the decision
 }
 
 bool same_transforms(const ItemTransforms& a, const ItemTransforms& b)
@@ -167,7 +168,7 @@ void render_views(Renderer& renderer, const std::vector<Camera>& cameras, Path p
     try {
         auto t0 = std::chrono::steady_clock::now();
         enqueue_views(m, gpu, 0, target.views(), path, target);
-        finish_views(m, t0);
+        finish_views(m, path, t0);
     } catch (const cl::Error& e) {
         m.stages.collect();
         throw_cl_error(e, std::string("rendering a batch of views with the ") + to_string(path) + " path");
@@ -215,7 +216,7 @@ void render_views(Renderer& renderer, Scene& scene, const std::vector<Camera>& c
             enqueue_views(m, gpu, int(first), int(end - first), path, target);
             first = end;
         }
-        finish_views(m, t0);
+        finish_views(m, path, t0);
         place(base);
     } catch (const cl::Error& e) {
         m.stages.collect();

@@ -314,6 +314,7 @@ void Renderer::Impl::render(const Camera& camera, int width, int height, const R
         std::optional<std::vector<StageTiming>> measured = stages.collect();
         last.stages_measured = measured.has_value();
         last.stages = measured ? std::move(*measured) : std::vector<StageTiming>{};
+        last.raster_atomics = raster_depth_test(path);
     } catch (const cl::Error& e) {
         stages.collect();
         throw_cl_error(e, std::string("rendering with the ") + to_string(path) + " path");

@@ -73,6 +73,12 @@ struct Renderer::Impl {
     const RasterMappingChoice& raster_mapping();
     /// The raster path, made on first use with the resolved mapping.
     detail::RasterPipeline& raster_pipeline();
+    /// FrameTiming::raster_atomics of a frame just drawn on `path`.
+    RasterAtomics raster_depth_test(Path path) const
+    {
+        if (path != Path::Raster || !raster) return RasterAtomics::Auto;
+        return raster->frame_owned() ? RasterAtomics::Off : RasterAtomics::On;
+    }
     /// Enqueues one frame of Path::Brute (the ray pipeline made): a scene with instances from its
     /// items (never the expansion), a plain one from its resident arrays.
     void render_brute(detail::Frame& frame);

@@ -26,8 +26,9 @@ std::string cl_error_name(cl_int code);
 /// 1280x720 ray frame took 5.2 or 9.3 ms, round after round, when interleaved with other
 /// renderers in `clvis bench`; pinned, 5.0-5.8). Only where it is safe and wanted:
 ///  - pocl_affinity (the caller's POCL_AFFINITY) unset: any value of theirs wins, 0 turns it off;
-///  - pocl_max_cu (POCL_CPU_MAX_CU_COUNT) unset: a larger pool would be pinned to CPUs that do
-///    not exist, which PoCL treats as fatal;
+///  - pocl_max_cu (POCL_CPU_MAX_CU_COUNT, and POCL_MAX_PTHREAD_COUNT alike) unset or an integer
+///    from 1 to online: a larger pool would be pinned to CPUs that do not exist, which PoCL
+///    treats as fatal;
 ///  - the process may run on exactly the online CPUs 0 to online-1 (taskset, cgroup cpusets and
 ///    mpirun's core binding restrict it; there CPU i may be outside the mask);
 ///  - at least 2 CPUs.

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cstdlib>
 #include <functional>
 #include <iostream>
@@ -108,8 +109,14 @@ const std::string& embedded_kernel(const std::string& name)
 bool pin_pocl_workers(const char* pocl_affinity, const char* pocl_max_cu, long online,
                       const std::vector<int>& allowed_cpus)
 {
-    if (pocl_affinity || pocl_max_cu) return false;
+    if (pocl_affinity) return false;
     if (online < 2 || long(allowed_cpus.size()) != online) return false;
+    if (pocl_max_cu) { // workers 0 .. n-1: pinned within the CPUs only when n <= online
+        char* end = nullptr;
+        errno = 0;
+        long n = std::strtol(pocl_max_cu, &end, 10);
+        if (errno != 0 || end == pocl_max_cu || *end != '\0' || n < 1 || n > online) return false;
+    }
     std::vector<int> sorted = allowed_cpus;
     std::sort(sorted.begin(), sorted.end());
     for (long cpu = 0; cpu < online; ++cpu)
@@ -129,7 +136,11 @@ void pin_pocl_workers_once()
         if (sched_getaffinity(0, sizeof mask, &mask) == 0)
             for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu)
                 if (CPU_ISSET(cpu, &mask)) allowed.push_back(cpu);
-        if (pin_pocl_workers(std::getenv("POCL_AFFINITY"), std::getenv("POCL_CPU_MAX_CU_COUNT"), online, allowed))
+        // PoCL 3.1 sizes its pool by POCL_CPU_MAX_CU_COUNT, else POCL_MAX_PTHREAD_COUNT (older)
+        const char* max_cu = std::getenv("POCL_CPU_MAX_CU_COUNT");
+        const char* max_threads = std::getenv("POCL_MAX_PTHREAD_COUNT");
+        if (max_threads && !pin_pocl_workers(nullptr, max_threads, online, allowed)) return;
+        if (pin_pocl_workers(std::getenv("POCL_AFFINITY"), max_cu, online, allowed))
             setenv("POCL_AFFINITY", "1", 0);
     });
 #endif

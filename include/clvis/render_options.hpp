@@ -210,6 +210,9 @@ struct FrameTiming {
     /// queue made without CL_QUEUE_PROFILING_ENABLE: the stage times are then absent (not
     /// zero), and only frame_ms is known.
     bool stages_measured = false;
+    /// The raster path's depth test in this frame, as RasterAtomics::Auto resolved it: On (64-bit
+    /// atomics) or Off (tile ownership). Auto for the other paths.
+    RasterAtomics raster_atomics = RasterAtomics::Auto;
 };
 
 struct BvhStats {

@@ -195,6 +195,10 @@ void bind_timing(nb::module_& m)
         .def_ro("stages", &FrameTiming::stages)
         .def_ro("stages_measured", &FrameTiming::stages_measured,
                 "False when the queue has no profiling (a wrapped queue made without it): stages are then absent.")
+        .def_prop_ro(
+            "raster_atomics", [](const FrameTiming& t) { return std::string(to_string(t.raster_atomics)); },
+            "The raster path's depth test in this frame, as raster_atomics='auto' resolved it: 'on' (64-bit "
+            "atomics) or 'off' (tile ownership); 'auto' for the other paths.")
         .def("__repr__", [](const FrameTiming& t) { return "<clvis.FrameTiming " + std::to_string(t.frame_ms) + " ms>"; });
     nb::class_<BvhStats>(m, "BvhStats", "The ray path's BVH as last built or refitted.")
         .def_ro("build_ms", &BvhStats::build_ms)

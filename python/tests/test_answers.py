@@ -99,6 +99,19 @@ def test_device_shares_name_the_device_index(device, bunny):
         assert repr(s) == f"<clvis.DeviceShare device {device.info.index} ({device.name}): {s.tiles} tiles>"
 
 
+def test_last_frame_names_the_depth_test_auto_drew_with(device, bunny):
+    camera = clvis.Camera.framing(bunny.bounds())
+    renderer = clvis.Renderer(device, bunny)
+    renderer.render(camera, W, H, path="ray")
+    assert renderer.last_frame.raster_atomics == "auto"  # not a raster frame
+    renderer.render(camera, W, H, path="raster")
+    # 69k triangles over 48x32 keys: far more than one a 16 keys, so atomics where the device has them
+    assert renderer.last_frame.raster_atomics == ("on" if device.info.int64_atomics else "off")
+    owned = clvis.Renderer(device, bunny, raster_atomics="off")
+    owned.render(camera, W, H, path="raster")
+    assert owned.last_frame.raster_atomics == "off"
+
+
 def test_result_structs_print_their_fields(device, bunny):
     renderer = clvis.Renderer(device, bunny)
     renderer.render(clvis.Camera.framing(bunny.bounds()), W, H, path="ray")
