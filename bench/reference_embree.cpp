@@ -24,6 +24,8 @@
 #include <cstring>
 #include <limits>
 #include <thread>
+
+#include "pinned_threads.hpp"
 #include <vector>
 
 namespace clvis::bench {
@@ -311,10 +313,7 @@ private:
                 else trace_tile_packets(ref_.scene, gen_, x0, y0, out);
             }
         };
-        std::vector<std::thread> pool;
-        for (int k = 1; k < ref_.threads; ++k) pool.emplace_back(worker);
-        worker();
-        for (auto& th : pool) th.join();
+        run_pinned(ref_.threads, worker);
     }
 };
 

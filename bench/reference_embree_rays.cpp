@@ -17,6 +17,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "pinned_threads.hpp"
+
 namespace clvis::bench {
 
 namespace {
@@ -126,10 +128,7 @@ EmbreeRays trace_embree_rays(RTCScene scene, int threads, const RayRecord* rays,
             _mm_setcsr(saved);
 #endif
         };
-        std::vector<std::thread> pool;
-        for (int k = 1; k < threads; ++k) pool.emplace_back(worker);
-        worker();
-        for (auto& th : pool) th.join();
+        run_pinned(threads, worker);
     };
     run(); // warm-up
     for (int r = 0; r < repeats; ++r) {
