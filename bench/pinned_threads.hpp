@@ -3,7 +3,8 @@
 // the scheduler trap that had slowed PoCL's: the std::thread started for a frame was often placed
 // on the core of the thread that started it and stayed there for the frame, so Embree's
 // rtcIntersect16 frames took 2.5 or 3.6-3.9 ms (bunny 640x480) pass by pass. The same rule
-// decides: pinned only where the process may run on every online CPU, 0 to n-1.
+// decides (runtime/cpus.hpp, owned_cpus): pinned only where the process may run on every online
+// CPU, 0 to n-1.
 #pragma once
 
 #include <functional>

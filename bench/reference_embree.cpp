@@ -3,6 +3,7 @@
 // counter by `threads` std::threads; Embree's own threads (TBB) only build.
 #include "reference_embree.hpp"
 #if CLVIS_HAVE_EMBREE
+#include "pinned_threads.hpp"
 #include "reference_embree_rays.hpp"
 #endif
 
@@ -23,9 +24,6 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <thread>
-
-#include "pinned_threads.hpp"
 #include <vector>
 
 namespace clvis::bench {

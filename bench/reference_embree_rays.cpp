@@ -5,6 +5,7 @@
 
 #if CLVIS_HAVE_EMBREE
 
+#include "pinned_threads.hpp"
 #include "reference_embree_rays.hpp"
 
 #if defined(__SSE__)
@@ -15,9 +16,6 @@
 #include <chrono>
 #include <limits>
 #include <stdexcept>
-#include <thread>
-
-#include "pinned_threads.hpp"
 
 namespace clvis::bench {
 

@@ -4,17 +4,12 @@
 #include "catch.hpp"
 
 #include "runtime/cl_runtime.hpp"
+#include "runtime/cpus.hpp"
 #include "runtime/embedded_kernels.hpp"
 
 #include <clvis/clvis.hpp>
 
 #include <cstdlib>
-#include <vector>
-
-#if defined(__linux__)
-#include <sched.h>
-#include <unistd.h>
-#endif
 #include <string>
 
 using namespace clvis;
@@ -26,24 +21,32 @@ const char* const caller_pocl_max_cu = std::getenv("POCL_CPU_MAX_CU_COUNT");
 const char* const caller_pocl_threads = std::getenv("POCL_MAX_PTHREAD_COUNT");
 } // namespace
 
+TEST_CASE("the CPUs a process owns are 0 to n-1, all online, at least two", "[device][pocl]")
+{
+    using detail::owned_cpus;
+    CHECK(owned_cpus(2, {0, 1}) == 2);
+    CHECK(owned_cpus(4, {3, 1, 0, 2}) == 4);
+    CHECK(owned_cpus(4, {2, 3}) == 0); // taskset, cpuset, mpirun binding
+    CHECK(owned_cpus(4, {0, 1}) == 0); // CPU 2 would be outside the mask
+    CHECK(owned_cpus(2, {1, 2}) == 0); // CPU 0 not ours
+    CHECK(owned_cpus(1, {0}) == 0);    // one CPU: nothing to place
+    CHECK(owned_cpus(2, {}) == 0);     // no mask read
+}
+
 TEST_CASE("PoCL's workers are pinned only where the caller left it to clvis and every CPU is ours", "[device][pocl]")
 {
     using detail::pin_pocl_workers;
-    CHECK(pin_pocl_workers(nullptr, nullptr, 2, {0, 1}));
-    CHECK(pin_pocl_workers(nullptr, nullptr, 4, {3, 1, 0, 2}));
-    CHECK_FALSE(pin_pocl_workers("0", nullptr, 2, {0, 1}));     // the caller's value wins
-    CHECK_FALSE(pin_pocl_workers("1", nullptr, 2, {0, 1}));     // already theirs: left as it is
-    CHECK_FALSE(pin_pocl_workers(nullptr, "8", 2, {0, 1}));     // a pool larger than the CPUs
-    CHECK(pin_pocl_workers(nullptr, "2", 2, {0, 1}));           // a pool within them
-    CHECK(pin_pocl_workers(nullptr, "1", 4, {0, 1, 2, 3}));
-    CHECK_FALSE(pin_pocl_workers(nullptr, "0", 2, {0, 1}));
-    CHECK_FALSE(pin_pocl_workers(nullptr, "2x", 2, {0, 1}));    // not a number: PoCL's to read
-    CHECK_FALSE(pin_pocl_workers(nullptr, "", 2, {0, 1}));
-    CHECK_FALSE(pin_pocl_workers(nullptr, nullptr, 4, {2, 3})); // taskset, cpuset, mpirun binding
-    CHECK_FALSE(pin_pocl_workers(nullptr, nullptr, 4, {0, 1})); // CPU 2 would be outside the mask
-    CHECK_FALSE(pin_pocl_workers(nullptr, nullptr, 2, {1, 2})); // CPU 0 not ours
-    CHECK_FALSE(pin_pocl_workers(nullptr, nullptr, 1, {0}));    // one CPU: nothing to place
-    CHECK_FALSE(pin_pocl_workers(nullptr, nullptr, 2, {}));     // no mask read
+    CHECK(pin_pocl_workers(nullptr, nullptr, nullptr, 2));
+    CHECK_FALSE(pin_pocl_workers("0", nullptr, nullptr, 2));     // the caller's value wins
+    CHECK_FALSE(pin_pocl_workers("1", nullptr, nullptr, 2));     // already theirs: left as it is
+    CHECK_FALSE(pin_pocl_workers(nullptr, "8", nullptr, 2));     // a pool larger than the CPUs
+    CHECK_FALSE(pin_pocl_workers(nullptr, nullptr, "8", 2));     // the same by the older name
+    CHECK(pin_pocl_workers(nullptr, "2", nullptr, 2));           // a pool within them
+    CHECK(pin_pocl_workers(nullptr, "1", "2", 4));
+    CHECK_FALSE(pin_pocl_workers(nullptr, "0", nullptr, 2));
+    CHECK_FALSE(pin_pocl_workers(nullptr, "2x", nullptr, 2));    // not a number: PoCL's to read
+    CHECK_FALSE(pin_pocl_workers(nullptr, "", nullptr, 2));
+    CHECK_FALSE(pin_pocl_workers(nullptr, nullptr, nullptr, 0)); // the CPUs are not all ours
 
     // This process: listing the devices made the decision once, before PoCL started its workers.
     (void)list_devices();
@@ -52,21 +55,9 @@ TEST_CASE("PoCL's workers are pinned only where the caller left it to clvis and 
         REQUIRE(now != nullptr);
         CHECK(std::string(now) == caller_pocl_affinity);
     } else {
-#if defined(__linux__)
-        cpu_set_t mask;
-        CPU_ZERO(&mask);
-        std::vector<int> allowed;
-        if (sched_getaffinity(0, sizeof mask, &mask) == 0)
-            for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu)
-                if (CPU_ISSET(cpu, &mask)) allowed.push_back(cpu);
-        long online = sysconf(_SC_NPROCESSORS_ONLN);
-        bool pinned = pin_pocl_workers(nullptr, caller_pocl_max_cu, online, allowed) &&
-                      (!caller_pocl_threads || pin_pocl_workers(nullptr, caller_pocl_threads, online, allowed));
+        bool pinned = pin_pocl_workers(nullptr, caller_pocl_max_cu, caller_pocl_threads, detail::owned_cpus());
         CHECK((now != nullptr) == pinned);
         if (now) CHECK(std::string(now) == "1");
-#else
-        CHECK(now == nullptr);
-#endif
     }
 }
 

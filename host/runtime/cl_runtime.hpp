@@ -12,7 +12,6 @@
 #include <new>
 #include <mutex>
 #include <string>
-#include <vector>
 
 namespace clvis::detail {
 
@@ -26,18 +25,14 @@ std::string cl_error_name(cl_int code);
 /// 1280x720 ray frame took 5.2 or 9.3 ms, round after round, when interleaved with other
 /// renderers in `clvis bench`; pinned, 5.0-5.8). Only where it is safe and wanted:
 ///  - pocl_affinity (the caller's POCL_AFFINITY) unset: any value of theirs wins, 0 turns it off;
-///  - pocl_max_cu (POCL_CPU_MAX_CU_COUNT, and POCL_MAX_PTHREAD_COUNT alike) unset or an integer
-///    from 1 to online: a larger pool would be pinned to CPUs that do not exist, which PoCL
-///    treats as fatal;
-///  - the process may run on exactly the online CPUs 0 to online-1 (taskset, cgroup cpusets and
-///    mpirun's core binding restrict it; there CPU i may be outside the mask);
-///  - at least 2 CPUs.
-bool pin_pocl_workers(const char* pocl_affinity, const char* pocl_max_cu, long online,
-                      const std::vector<int>& allowed_cpus);
+///  - pocl_max_cu and pocl_max_threads (POCL_CPU_MAX_CU_COUNT, POCL_MAX_PTHREAD_COUNT, by which
+///    PoCL 3.1 sizes its pool) unset or integers from 1 to owned: a larger pool would be pinned to
+///    CPUs that do not exist, which PoCL treats as fatal;
+///  - owned (runtime/cpus.hpp, owned_cpus) at least 2: the process may run on exactly the online
+///    CPUs 0 to owned-1.
+bool pin_pocl_workers(const char* pocl_affinity, const char* pocl_max_cu, const char* pocl_max_threads,
+                      int owned);
 
-/// Sets POCL_AFFINITY=1 once per process where pin_pocl_workers says so (Linux), before clvis's
-/// first clGetPlatformIDs: PoCL reads it as it starts its workers, at the process's first
-/// clGetPlatformIDs, so a process whose OpenCL was initialized before clvis keeps its pool.
 void pin_pocl_workers_once();
 
 /// Throws Error(Device): "<what>: <CL call> failed with <CL_ERROR_NAME>".

@@ -3,6 +3,7 @@
 // the translation of OpenCL errors into clvis::Error.
 #include "lower_case.hpp"
 #include "runtime/cl_runtime.hpp"
+#include "runtime/cpus.hpp"
 #include "runtime/program_cache.hpp"
 
 #include "runtime/embedded_kernels.hpp"
@@ -16,11 +17,6 @@
 #include <map>
 #include <mutex>
 #include <sstream>
-
-#if defined(__linux__)
-#include <sched.h>
-#include <unistd.h>
-#endif
 
 namespace clvis::detail {
 
@@ -106,22 +102,25 @@ const std::string& embedded_kernel(const std::string& name)
     throw Error(Error::Kind::Build, "no embedded kernel named '" + name + "'");
 }
 
-bool pin_pocl_workers(const char* pocl_affinity, const char* pocl_max_cu, long online,
-                      const std::vector<int>& allowed_cpus)
+namespace {
+
+/// Whether a pool size the caller gave PoCL (unset: PoCL's own, one worker per CPU) stays within
+/// `cpus`: workers 0 .. n-1 are pinned to CPUs that exist only when n <= cpus.
+bool pool_within(const char* size, int cpus)
 {
-    if (pocl_affinity) return false;
-    if (online < 2 || long(allowed_cpus.size()) != online) return false;
-    if (pocl_max_cu) { // workers 0 .. n-1: pinned within the CPUs only when n <= online
-        char* end = nullptr;
-        errno = 0;
-        long n = std::strtol(pocl_max_cu, &end, 10);
-        if (errno != 0 || end == pocl_max_cu || *end != '\0' || n < 1 || n > online) return false;
-    }
-    std::vector<int> sorted = allowed_cpus;
-    std::sort(sorted.begin(), sorted.end());
-    for (long cpu = 0; cpu < online; ++cpu)
-        if (sorted[std::size_t(cpu)] != cpu) return false;
-    return true;
+    if (!size) return true;
+    char* end = nullptr;
+    errno = 0;
+    long n = std::strtol(size, &end, 10);
+    return errno == 0 && end != size && *end == '\0' && n >= 1 && n <= cpus;
+}
+
+} // namespace
+
+bool pin_pocl_workers(const char* pocl_affinity, const char* pocl_max_cu, const char* pocl_max_threads,
+                      int owned)
+{
+    return !pocl_affinity && owned >= 2 && pool_within(pocl_max_cu, owned) && pool_within(pocl_max_threads, owned);
 }
 
 void pin_pocl_workers_once()
@@ -129,18 +128,8 @@ void pin_pocl_workers_once()
 #if defined(__linux__)
     static std::once_flag once;
     std::call_once(once, [] {
-        long online = sysconf(_SC_NPROCESSORS_ONLN);
-        cpu_set_t mask;
-        CPU_ZERO(&mask);
-        std::vector<int> allowed;
-        if (sched_getaffinity(0, sizeof mask, &mask) == 0)
-            for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu)
-                if (CPU_ISSET(cpu, &mask)) allowed.push_back(cpu);
-        // PoCL 3.1 sizes its pool by POCL_CPU_MAX_CU_COUNT, else POCL_MAX_PTHREAD_COUNT (older)
-        const char* max_cu = std::getenv("POCL_CPU_MAX_CU_COUNT");
-        const char* max_threads = std::getenv("POCL_MAX_PTHREAD_COUNT");
-        if (max_threads && !pin_pocl_workers(nullptr, max_threads, online, allowed)) return;
-        if (pin_pocl_workers(std::getenv("POCL_AFFINITY"), max_cu, online, allowed))
+        if (pin_pocl_workers(std::getenv("POCL_AFFINITY"), std::getenv("POCL_CPU_MAX_CU_COUNT"),
+                             std::getenv("POCL_MAX_PTHREAD_COUNT"), owned_cpus()))
             setenv("POCL_AFFINITY", "1", 0);
     });
 #endif
