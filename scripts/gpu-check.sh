@@ -10,8 +10,10 @@
 #   3. on the GPU: the device suite, the agreement suite, the raster-rule cases, the float-only
 #      exact fallback, the GPU's keys against PoCL's bit for bit (where PoCL is there),
 #      `clvis bench --quick`, timed 1080p renders (the 1M sphere and the bunny, both paths and
-#      mappings: the anchors of the closing note), and the slow device cases.
-# CI runs everything else on PoCL: nothing here repeats it.
+#      mappings: the anchors of the closing note), and the slow device cases;
+#   4. on the same machine's PoCL (16 cores): CTest's device entry, `clvis bench --quick` and the
+#      bunny at 1080p on both paths.
+# CI runs everything else on PoCL; step 4 repeats its device entry here only for the 16 cores' figures.
 #
 # Time: each step has a timeout; after GPU_CHECK_DEADLINE_S seconds (default 480) the steps left
 # are skipped, each saying so. Output: $OUT (default gpu-check-out/) holds summary.txt (a START
@@ -296,8 +298,9 @@ agree_filter="[device][agree]~[.]~[gltf]" # fast and slow; the glTF samples case
 rule_filter="[device][rule]~[.]~[slow]"
 slow_filter="[device][slow]~[.]~[agree]~[multi_device]~[pocl]"
 # As the CTest entry device_exact_float: the watertightness cases with every kernel built with
-# the float-only exact edge fallback (CLVIS_EXACT_FLOAT=1), the form devices without fp64 use.
-exact_float_filter="a plane face-on*,triangles seen edge-on*,a tessellated plane edge-on*,rays aimed exactly at shared edges*,the BVH path gives the brute path's keys,ray queries through the BVH equal brute force and the oracle,the single mapping gives the packet mapping's keys where the exact fallback runs"
+# the float-only exact edge fallback (CLVIS_EXACT_FLOAT=1), the form devices without fp64 use;
+# one list, tests/exact_float_cases.txt, serves both.
+exact_float_filter=$(head -n 1 "$root/tests/exact_float_cases.txt")
 
 if [ -n "$tests" ]; then
     step "device suite on $gpu" 150 device.log catch2 "$(printf '%s' "${device_filter[@]}")"
@@ -378,6 +381,28 @@ if [ -n "$tests" ]; then
     step "slow device cases on $gpu" 120 slow.log catch2 "$slow_filter"
 else
     skip "slow device cases on $gpu" "$no_tests"
+fi
+# The same machine's PoCL on its 16 cores: CTest's device entry (what CI runs on 2 cores), then
+# the quick sweep and the bunny at 1080p, the figures that set the GPU's beside a CPU's.
+if [ "$pocl" = 1 ]; then
+    if [ -n "$tests" ]; then
+        step "device suite on PoCL" 150 device-pocl.log catch2 "[device]~[slow]~[.]~[multi_device]" CLVIS_DEVICE=cpu
+    else
+        skip "device suite on PoCL" "$no_tests"
+    fi
+    if [ -n "$cli" ]; then
+        step "clvis bench --quick on PoCL" 120 bench-pocl.log tool bench --quick --no-plot --device cpu \
+            --out "$logs/bench-pocl"
+        for p in raster ray; do
+            step "render bunny 1920x1080 $p on PoCL" 60 "render-bunny-$p-pocl.log" \
+                tool render scenes/stanford-bunny.obj --path "$p" --width 1920 --height 1080 --repeat 20 \
+                --timings --json --device cpu
+        done
+    else
+        skip "clvis bench --quick and the bunny on PoCL" "$no_cli"
+    fi
+else
+    skip "device suite, bench and the bunny on PoCL" "no PoCL .icd registered in the image"
 fi
 # Auto's choices, as measured on the GPU.
 [ -n "$cli" ] && [ "$(elapsed)" -lt "$deadline" ] && timeout 30 bash -c 'tool devices' >"$logs/devices-tuned.txt" 2>&1

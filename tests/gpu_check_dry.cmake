@@ -74,7 +74,8 @@ set(steps "clinfo" "configure" "build the tool \\(clvis_cli\\)" "build the tests
     "1M-triangle sphere \\(make_uv_sphere\\) as PLY" "render sphere-1M 1920x1080 raster on NVIDIA"
     "render sphere-1M 1920x1080 ray on NVIDIA" "render bunny 1920x1080 raster square on NVIDIA"
     "render bunny 1920x1080 raster pixel on NVIDIA" "render bunny 1920x1080 ray packet on NVIDIA"
-    "render bunny 1920x1080 ray single on NVIDIA" "slow device cases on NVIDIA")
+    "render bunny 1920x1080 ray single on NVIDIA" "slow device cases on NVIDIA" "device suite on PoCL"
+    "clvis bench --quick on PoCL" "render bunny 1920x1080 raster on PoCL" "render bunny 1920x1080 ray on PoCL")
 foreach(s IN LISTS steps)
   expect(walk "\\+[0-9]+s START ${s} \\(timeout [0-9]+ s\\)")
   expect(walk "\\+[0-9]+s END   ${s}: ok")
@@ -96,7 +97,8 @@ if(NOT rc EQUAL 0)
 endif()
 foreach(log clinfo.txt clinfo-l.txt configure.log build-cli.log build-tests.log devices.txt device.log agree.log
         rule.log exact-float.log reference-pocl.log bench.log sphere.log render-sphere-raster.log
-        render-bunny-ray-single.log slow.log preflight.txt vendors/nvidia.icd)
+        render-bunny-ray-single.log slow.log device-pocl.log bench-pocl.log render-bunny-ray-pocl.log preflight.txt
+        vendors/nvidia.icd)
   if(NOT EXISTS ${WORK}/walk/logs/${log})
     message(FATAL_ERROR "walk: the tarball lacks logs/${log}")
   endif()
@@ -109,6 +111,15 @@ foreach(excluded "\\[pocl\\]" "\\[multi_device\\]" "\\[gltf\\]" "\\[slow\\]" "de
 endforeach()
 if(NOT device_list MATCHES "\\[device\\]")
   message(FATAL_ERROR "walk: the device suite lists no [device] case:\n${device_list}")
+endif()
+# The float-only step runs the list of CTest's device_exact_float: at least a case per pattern.
+file(STRINGS ${CMAKE_CURRENT_LIST_DIR}/exact_float_cases.txt exact_float_cases LIMIT_COUNT 1)
+string(REPLACE "," ";" exact_float_cases "${exact_float_cases}")
+list(LENGTH exact_float_cases exact_float_count)
+file(READ ${WORK}/walk/logs/exact-float.log exact_float_list)
+string(REGEX MATCH "([0-9]+) matching test case" _ "${exact_float_list}")
+if(NOT CMAKE_MATCH_1 OR CMAKE_MATCH_1 LESS exact_float_count)
+  message(FATAL_ERROR "walk: the float-only step selects fewer cases than its list's ${exact_float_count} patterns:\n${exact_float_list}")
 endif()
 file(READ ${WORK}/walk/logs/reference-pocl.log reference_list)
 if(NOT reference_list MATCHES "a second device passes the referee")
