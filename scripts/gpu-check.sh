@@ -111,6 +111,89 @@ catch2() {
     exec env "$@" "$tests" "$filter" --durations yes
 }
 
+# Catch2 in SHARDS processes at once (GPU_CHECK_SHARDS, default half the cores, at most 8): the
+# cases FILTER selects, dealt round-robin, each shard named case by case (',', '[', ']', '*', '~',
+# '"' and '\' escaped). On the GPU the suite's time is the host's (oracles, the referee, kernel
+# builds): the first lease's serial run finished 38 of 141 cases in 150 s. Each shard logs to
+# LOGBASE-shardN.log; then every shard's log, and one line of totals. A timeout's SIGTERM reaches
+# the shards too (timeout signals its process group): their cut cases are still reported. Dry: the
+# list with tags, and each shard's spec listed again, which must select exactly its cases.
+catch2_sharded() {
+    local filter=$1 base=$2 shards=$3
+    shift 3
+    local names=$work/$base-names.txt n i rc=0 cut=0 r p
+    catch2_list "$filter" "$@" >"$names" || { cat "$names"; echo "the case list could not be read"; return 1; }
+    n=$(grep -c . "$names")
+    echo "$n matching test cases, in $shards shards"
+    [ "$n" -gt 0 ] || { echo "the filter selects no test case"; return 1; }
+    local specs=()
+    for ((i = 0; i < shards; i++)); do
+        specs[i]=$(awk -v k="$shards" -v i="$i" 'NF && (NR - 1) % k == i' "$names" |
+            sed 's/[][\\,*~"]/\\&/g' | paste -sd, -)
+    done
+    if [ "$dry" = 1 ]; then
+        env "$@" "$tests" "$filter" --list-tests # with their tags
+        local total=0 got
+        for ((i = 0; i < shards; i++)); do
+            [ -n "${specs[i]}" ] || continue
+            got=$(catch2_list "${specs[i]}" "$@" | grep -c .)
+            echo "shard $i selects $got cases"
+            total=$((total + got))
+        done
+        [ "$total" -eq "$n" ] || { echo "the shards select $total cases, the filter $n"; return 1; }
+        echo "$n matching test cases, in $shards shards" # the summary's totals: the last such line
+        return 0
+    fi
+    local pids=()
+    trap 'cut=1' TERM
+    for ((i = 0; i < shards; i++)); do
+        [ -n "${specs[i]}" ] || continue
+        env "$@" "$tests" "${specs[i]}" --durations yes >"$logs/$base-shard$i.log" 2>&1 &
+        pids+=($!)
+    done
+    for p in "${pids[@]}"; do
+        while :; do
+            wait "$p"
+            r=$?
+            # A trapped signal interrupts wait with a status above 128 while the shard still runs.
+            [ "$r" -gt 128 ] && kill -0 "$p" 2>/dev/null && continue
+            break
+        done
+        [ "$r" = 0 ] || rc=1
+    done
+    local cases=0 passed=0 failed=0 f c pa fa
+    for ((i = 0; i < shards; i++)); do
+        f=$logs/$base-shard$i.log
+        [ -e "$f" ] || continue
+        echo "=== shard $i"
+        cat "$f"
+        if read -r c pa fa < <(sed -nE 's/^test cases: *([0-9]+) *\| *([0-9]+) passed *\| *([0-9]+) failed.*/\1 \2 \3/p' "$f" | tail -n 1) &&
+            [ -n "$c" ]; then
+            :
+        elif c=$(sed -nE 's/^All tests passed \([0-9]+ assertions? in ([0-9]+) test cases?\).*/\1/p' "$f" | tail -n 1) && [ -n "$c" ]; then
+            pa=$c fa=0
+        else
+            c=0 pa=0 fa=0
+        fi
+        cases=$((cases + c)) passed=$((passed + pa)) failed=$((failed + fa))
+    done
+    echo "test cases: $cases of $n run | $passed passed | $failed failed ($shards shards$([ "$cut" = 1 ] && echo ', cut by the timeout'))"
+    [ "$cut" = 0 ] && [ "$rc" = 0 ] && [ "$cases" = "$n" ]
+}
+
+# The names FILTER selects, one a line: Catch2 2.x's --list-test-names-only, else 3.x's quiet list.
+catch2_list() {
+    local filter=$1
+    shift
+    # 2.x exits with the number of cases listed: the help says which form the binary takes.
+    if "$tests" --help 2>/dev/null | grep -q -- --list-test-names-only; then
+        env "$@" "$tests" "$filter" --list-test-names-only
+    else
+        env "$@" "$tests" "$filter" --list-tests --verbosity quiet
+    fi
+    return 0
+}
+
 # The tool. Dry: render and bench check their arguments instead (every flag named in the
 # subcommand's --help, every value through its validators) and `clvis info` loads the mesh.
 tool() {
@@ -132,7 +215,10 @@ tool() {
 dry_or() { # a build command, echoed instead in a dry run
     if [ "$dry" = 1 ]; then echo "dry run: $*"; else "$@"; fi
 }
-export -f catch2 tool dry_or
+export -f catch2 catch2_sharded catch2_list tool dry_or
+shards=${GPU_CHECK_SHARDS:-$(($(nproc) / 2))}
+[ "$shards" -ge 1 ] || shards=1
+[ "$shards" -le 8 ] || shards=8
 export dry work
 
 say "gpu-check $(date -u +%Y-%m-%dT%H:%M:%SZ), commit $(git rev-parse --short HEAD 2>/dev/null || echo '?')," \
@@ -303,10 +389,11 @@ slow_filter="[device][slow]~[.]~[agree]~[multi_device]~[pocl]"
 exact_float_filter=$(head -n 1 "$root/tests/exact_float_cases.txt")
 
 if [ -n "$tests" ]; then
-    step "device suite on $gpu" 150 device.log catch2 "$(printf '%s' "${device_filter[@]}")"
+    step "device suite on $gpu" 240 device.log catch2_sharded "$(printf '%s' "${device_filter[@]}")" device "$shards"
     step "agreement suite on $gpu" 150 agree.log catch2 "$agree_filter"
     step "raster-rule cases on $gpu" 60 rule.log catch2 "$rule_filter"
-    step "float-only exact fallback on $gpu" 90 exact-float.log catch2 "$exact_float_filter" CLVIS_EXACT_FLOAT=1
+    step "float-only exact fallback on $gpu" 120 exact-float.log catch2_sharded "$exact_float_filter" exact-float \
+        "$shards" CLVIS_EXACT_FLOAT=1
     # The GPU's keys against PoCL's, bit for bit where both round division and square root
     # correctly (reference_device_test.cpp): the one comparison CI cannot make.
     if [ "$pocl" = 1 ]; then
@@ -386,7 +473,8 @@ fi
 # the quick sweep and the bunny at 1080p, the figures that set the GPU's beside a CPU's.
 if [ "$pocl" = 1 ]; then
     if [ -n "$tests" ]; then
-        step "device suite on PoCL" 150 device-pocl.log catch2 "[device]~[slow]~[.]~[multi_device]" CLVIS_DEVICE=cpu
+        step "device suite on PoCL" 180 device-pocl.log catch2_sharded "[device]~[slow]~[.]~[multi_device]" \
+            device-pocl "$shards" CLVIS_DEVICE=cpu
     else
         skip "device suite on PoCL" "$no_tests"
     fi

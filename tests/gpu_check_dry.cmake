@@ -3,6 +3,7 @@
 # step lists what its filter selects; each tool step checks its arguments). Three runs:
 #   walk:     every step runs, in order, and says so; $OUT holds summary.txt and the tarball only;
 #             no filter selects nothing, and the device suite holds no case excluded on purpose;
+#             the sharded suites' shards, each named case by case, select exactly the filter's cases;
 #   no_cl:    nvidia-smi sees a GPU that OpenCL does not list: a FAIL line, the GPU steps skipped;
 #   deadline: a clinfo that hangs is cut by its timeout, and every step after the global deadline
 #             is skipped, saying so; what ran is in $OUT.
@@ -67,7 +68,7 @@ function(expect_not name pattern)
 endfunction()
 
 # --- walk: every step, each with a START and an ok END ------------------------------------------
-run(walk TRUE)
+run(walk TRUE GPU_CHECK_SHARDS=3) # the sharded steps name each case of 3 shards; each shard lists its own
 set(steps "clinfo" "configure" "build the tool \\(clvis_cli\\)" "build the tests \\(clvis_tests\\)" "clvis devices"
     "device suite on NVIDIA" "agreement suite on NVIDIA" "raster-rule cases on NVIDIA"
     "float-only exact fallback on NVIDIA" "keys on NVIDIA against PoCL's" "clvis bench --quick on NVIDIA"
@@ -83,6 +84,8 @@ endforeach()
 expect(walk "nvidia-smi: NVIDIA H200")
 expect(walk "NVIDIA OpenCL driver: ")
 expect(walk "result: ok")
+expect(walk "END   device suite on NVIDIA: ok \\([0-9]+ s\\); [0-9]+ matching test cases, in 3 shards")
+expect(walk "END   float-only exact fallback on NVIDIA: ok \\([0-9]+ s\\); [0-9]+ matching test cases, in 3 shards")
 expect_not(walk "SKIP|FAIL|missing:")
 # The START line precedes its END line.
 string(FIND "${summary_walk}" "START device suite" start_at)
