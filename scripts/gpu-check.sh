@@ -9,10 +9,10 @@
 #      each later step needs only its own binary;
 #   3. on the GPU: the device suite, the agreement suite, the raster-rule cases, the float-only
 #      exact fallback, the GPU's keys against PoCL's bit for bit (where PoCL is there),
-#      `clvis bench --quick`, timed 1080p renders (the 1M sphere and the bunny, both paths and
+#      `clvis bench --quick` and `--rays --quick`, timed 1080p renders (the 1M sphere and the bunny, both paths and
 #      mappings: the anchors of the closing note), and the slow device cases;
-#   4. on the same machine's PoCL (16 cores): CTest's device entry, `clvis bench --quick` and the
-#      bunny at 1080p on both paths.
+#   4. on the same machine's PoCL (16 cores): CTest's device entry, `clvis bench --quick` and
+#      `--rays --quick`, and the bunny at 1080p on both paths.
 # CI runs everything else on PoCL; step 4 repeats its device entry here only for the 16 cores' figures.
 #
 # Time: each step has a timeout; after GPU_CHECK_DEADLINE_S seconds (default 480) the steps left
@@ -447,6 +447,9 @@ EOF
 export -f make_sphere
 if [ -n "$cli" ]; then
     step "clvis bench --quick on $gpu" 150 bench.log tool bench --quick --no-plot --device "$gpu" --out "$logs/bench"
+    # Ray queries (AO rays off the bunny and a sphere, random rays in a soup): closest, any, all.
+    step "clvis bench --rays --quick on $gpu" 60 bench-rays.log tool bench --rays --quick --no-plot --device "$gpu" \
+        --out "$logs/bench-rays"
     if step "1M-triangle sphere (make_uv_sphere) as PLY" 30 sphere.log make_sphere && [ -s "$sphere" ]; then
         for p in raster ray; do
             step "render sphere-1M 1920x1080 $p on $gpu" 60 "render-sphere-$p.log" \
@@ -481,6 +484,8 @@ if [ "$pocl" = 1 ]; then
     if [ -n "$cli" ]; then
         step "clvis bench --quick on PoCL" 120 bench-pocl.log tool bench --quick --no-plot --device cpu \
             --out "$logs/bench-pocl"
+        step "clvis bench --rays --quick on PoCL" 60 bench-rays-pocl.log tool bench --rays --quick --no-plot \
+            --device cpu --out "$logs/bench-rays-pocl"
         for p in raster ray; do
             step "render bunny 1920x1080 $p on PoCL" 60 "render-bunny-$p-pocl.log" \
                 tool render scenes/stanford-bunny.obj --path "$p" --width 1920 --height 1080 --repeat 20 \

@@ -71,12 +71,12 @@ endfunction()
 run(walk TRUE GPU_CHECK_SHARDS=3) # the sharded steps name each case of 3 shards; each shard lists its own
 set(steps "clinfo" "configure" "build the tool \\(clvis_cli\\)" "build the tests \\(clvis_tests\\)" "clvis devices"
     "device suite on NVIDIA" "agreement suite on NVIDIA" "raster-rule cases on NVIDIA"
-    "float-only exact fallback on NVIDIA" "keys on NVIDIA against PoCL's" "clvis bench --quick on NVIDIA"
+    "float-only exact fallback on NVIDIA" "keys on NVIDIA against PoCL's" "clvis bench --quick on NVIDIA" "clvis bench --rays --quick on NVIDIA"
     "1M-triangle sphere \\(make_uv_sphere\\) as PLY" "render sphere-1M 1920x1080 raster on NVIDIA"
     "render sphere-1M 1920x1080 ray on NVIDIA" "render bunny 1920x1080 raster square on NVIDIA"
     "render bunny 1920x1080 raster pixel on NVIDIA" "render bunny 1920x1080 ray packet on NVIDIA"
     "render bunny 1920x1080 ray single on NVIDIA" "slow device cases on NVIDIA" "device suite on PoCL"
-    "clvis bench --quick on PoCL" "render bunny 1920x1080 raster on PoCL" "render bunny 1920x1080 ray on PoCL")
+    "clvis bench --quick on PoCL" "clvis bench --rays --quick on PoCL" "render bunny 1920x1080 raster on PoCL" "render bunny 1920x1080 ray on PoCL")
 foreach(s IN LISTS steps)
   expect(walk "\\+[0-9]+s START ${s} \\(timeout [0-9]+ s\\)")
   expect(walk "\\+[0-9]+s END   ${s}: ok")
@@ -100,7 +100,8 @@ if(NOT rc EQUAL 0)
 endif()
 foreach(log clinfo.txt clinfo-l.txt configure.log build-cli.log build-tests.log devices.txt device.log agree.log
         rule.log exact-float.log reference-pocl.log bench.log sphere.log render-sphere-raster.log
-        render-bunny-ray-single.log slow.log device-pocl.log bench-pocl.log render-bunny-ray-pocl.log preflight.txt
+        render-bunny-ray-single.log slow.log device-pocl.log bench-pocl.log bench-rays.log bench-rays-pocl.log
+        render-bunny-ray-pocl.log preflight.txt
         vendors/nvidia.icd)
   if(NOT EXISTS ${WORK}/walk/logs/${log})
     message(FATAL_ERROR "walk: the tarball lacks logs/${log}")
