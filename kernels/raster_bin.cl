@@ -5,19 +5,26 @@
    overflowed); raster_fine.cl walks the bins. Only 32-bit atomics: it builds on devices without 64-bit ones. */
 #include "shared/raster.h"
 
-/* Calls BODY(tile) for every tile of `tile_log2` whose pixel centres triangle t may cover. */
+/* Calls BODY(tile) for every tile of `tile_log2` whose pixel centres triangle t may cover. Most
+   triangles lie in one tile: that tile, without the loops or the edge test (a triangle whose box
+   holds no sample it covers costs the fine stage a test, never a pixel). */
 #define CLVIS_FOR_EACH_TILE(t, tile_log2, tiles_x, BODY)                                          \
-    for (int ty = (t).y0 >> (tile_log2); ty <= (t).y1 >> (tile_log2); ++ty) {                      \
-        int j0 = max(ty << (tile_log2), (t).y0), j1 = min(((ty + 1) << (tile_log2)) - 1, (t).y1); \
-        for (int tx = (t).x0 >> (tile_log2); tx <= (t).x1 >> (tile_log2); ++tx) {                  \
-            int i0 = max(tx << (tile_log2), (t).x0);                                               \
-            int i1 = min(((tx + 1) << (tile_log2)) - 1, (t).x1);                                   \
-            if (clvis_raster_overlaps(&(t), i0, j0, i1, j1)) {                                     \
-                uint tile = (uint)ty * (uint)(tiles_x) + (uint)tx;                                 \
-                BODY;                                                                              \
+    if (((t).x0 >> (tile_log2)) == ((t).x1 >> (tile_log2)) &&                                      \
+        ((t).y0 >> (tile_log2)) == ((t).y1 >> (tile_log2))) {                                      \
+        uint tile = (uint)((t).y0 >> (tile_log2)) * (uint)(tiles_x) + (uint)((t).x0 >> (tile_log2)); \
+        BODY;                                                                                      \
+    } else                                                                                         \
+        for (int ty = (t).y0 >> (tile_log2); ty <= (t).y1 >> (tile_log2); ++ty) {                  \
+            int j0 = max(ty << (tile_log2), (t).y0), j1 = min(((ty + 1) << (tile_log2)) - 1, (t).y1); \
+            for (int tx = (t).x0 >> (tile_log2); tx <= (t).x1 >> (tile_log2); ++tx) {              \
+                int i0 = max(tx << (tile_log2), (t).x0);                                           \
+                int i1 = min(((tx + 1) << (tile_log2)) - 1, (t).x1);                               \
+                if (clvis_raster_overlaps(&(t), i0, j0, i1, j1)) {                                 \
+                    uint tile = (uint)ty * (uint)(tiles_x) + (uint)tx;                             \
+                    BODY;                                                                          \
+                }                                                                                  \
             }                                                                                      \
-        }                                                                                          \
-    }
+        }
 
 /* Zeroes `count` words: the counters before raster_setup.cl lists triangles, the tile counts
    before raster_bin_count when a frame stopped before raster_bin_scan zeroed them. */
