@@ -71,12 +71,14 @@ endfunction()
 run(walk TRUE GPU_CHECK_SHARDS=3) # the sharded steps name each case of 3 shards; each shard lists its own
 set(steps "clinfo" "configure" "build the tool \\(clvis_cli\\)" "build the tests \\(clvis_tests\\)" "clvis devices"
     "device suite on NVIDIA" "agreement suite on NVIDIA" "raster-rule cases on NVIDIA"
-    "float-only exact fallback on NVIDIA" "keys on NVIDIA against PoCL's" "clvis bench --quick on NVIDIA" "clvis bench --rays --quick on NVIDIA"
+    "float-only exact fallback on NVIDIA" "keys on NVIDIA against PoCL's" "clvis bench --quick on NVIDIA"
+    "clvis bench --rays --quick on NVIDIA"
     "1M-triangle sphere \\(make_uv_sphere\\) as PLY" "render sphere-1M 1920x1080 raster on NVIDIA"
     "render sphere-1M 1920x1080 ray on NVIDIA" "render bunny 1920x1080 raster square on NVIDIA"
     "render bunny 1920x1080 raster pixel on NVIDIA" "render bunny 1920x1080 ray packet on NVIDIA"
     "render bunny 1920x1080 ray single on NVIDIA" "slow device cases on NVIDIA" "device suite on PoCL"
-    "clvis bench --quick on PoCL" "clvis bench --rays --quick on PoCL" "render bunny 1920x1080 raster on PoCL" "render bunny 1920x1080 ray on PoCL")
+    "clvis bench --quick on PoCL" "clvis bench --rays --quick on PoCL" "render bunny 1920x1080 raster on PoCL"
+    "render bunny 1920x1080 ray on PoCL")
 foreach(s IN LISTS steps)
   expect(walk "\\+[0-9]+s START ${s} \\(timeout [0-9]+ s\\)")
   expect(walk "\\+[0-9]+s END   ${s}: ok")
@@ -123,7 +125,8 @@ list(LENGTH exact_float_cases exact_float_count)
 file(READ ${WORK}/walk/logs/exact-float.log exact_float_list)
 string(REGEX MATCH "([0-9]+) matching test case" _ "${exact_float_list}")
 if(NOT CMAKE_MATCH_1 OR CMAKE_MATCH_1 LESS exact_float_count)
-  message(FATAL_ERROR "walk: the float-only step selects fewer cases than its list's ${exact_float_count} patterns:\n${exact_float_list}")
+  message(FATAL_ERROR
+          "walk: the float-only step selects fewer cases than its list's ${exact_float_count} patterns:\n${exact_float_list}")
 endif()
 file(READ ${WORK}/walk/logs/reference-pocl.log reference_list)
 if(NOT reference_list MATCHES "a second device passes the referee")
