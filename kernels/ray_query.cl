@@ -318,6 +318,21 @@ __kernel void ray_query(__global const clvis_wide_node* nodes, uint node_count, 
     ulong begin = (ulong)get_global_id(0) * per_item;
     if (begin >= count) return;
     uint next = (uint)begin, end = (ulong)count - begin < per_item ? count : (uint)begin + per_item;
+#if CLVIS_QUERY_LANES == 1
+    /* One lane: the rays one after the other, each walk in a loop of its own, so that the
+       compiler keeps the ray (origin, 1 / direction, the box planes it meets first) in
+       registers across the walk's steps; the lanes' loop below kept them in memory and reloaded
+       them at every node (AO rays through the bunny: 10 % fewer instructions, callgrind). */
+    for (; next < end; ++next) {
+        walker one;
+        clvis_walk walk1;
+        clvis_walk_stack st1;
+        walk_start(rays, ray_layout, ray_stride, ray_offset, next, node_count, invalid, max_hits, &one, &walk1);
+        while (walk1.node != CLVIS_WALK_DONE)
+            clvis_walk_step(&one, 0, QUERY_TWO_LEVEL, nodes, tris, instances, &walk1, &st1);
+        store_answer(out, out_layout, out_stride, out_offset + next, &one.a, counts);
+    }
+#else
     /* CLVIS_QUERY_LANES walks interleaved a step (a node) at a time: while one lane waits for the
        node it popped, the others' loads are in flight */
     walker w[CLVIS_QUERY_LANES];
@@ -347,6 +362,7 @@ __kernel void ray_query(__global const clvis_wide_node* nodes, uint node_count, 
             }
         }
     }
+#endif
 }
 
 __kernel void ray_query_brute(__global const float* positions, __global const uint* indices, uint triangle_count,
