@@ -113,10 +113,10 @@ catch2() {
 
 # Catch2 in SHARDS processes at once (GPU_CHECK_SHARDS, default half the cores, at most 8): the
 # cases FILTER selects, dealt round-robin, each shard named case by case (',', '[', ']', '*', '~',
-# '"' and '\' escaped). The first lease's serial run finished 38 of 141 cases in 150 s on the GPU;
-# most of a case's work is the host's (scenes, oracles, the referee), which more processes share
-# out (not profiled there yet: docs/bench/gpu-h200.md). Each shard logs to
-# LOGBASE-shardN.log; then every shard's log, and one line of totals. A timeout's SIGTERM reaches
+# '"' and '\' escaped). The first lease's serial run finished 38 of 141 cases in 150 s on the GPU.
+# Much of a case's work runs on the host (scenes, oracles, the referee), which more processes share
+# out; how much of the GPU run's time it was is not profiled yet (docs/bench/gpu-h200.md). Each
+# shard logs to LOGBASE-shardN.log; then every shard's log, and one line of totals. A timeout's SIGTERM reaches
 # the shards too (timeout signals its process group): their cut cases are still reported. Dry: the
 # list with tags, and each shard's spec listed again, which must select exactly its cases.
 catch2_sharded() {
