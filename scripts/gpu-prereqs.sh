@@ -10,6 +10,8 @@
 #   opencl-c-headers, opencl-clhpp-headers (<CL/cl.h>, <CL/opencl.hpp>)
 #   ocl-icd-libopencl1, ocl-icd-opencl-dev (the ICD loader and its link name: the image may have none)
 #   clinfo (lists the platforms before anything is built)
+#   libtinygltf2d, libstb0 (the runtime libraries of glTF loading: a build made here, where
+#     libtinygltf-dev is installed, links them, and the GPU machine's image has neither)
 #
 # Every file is plain data or an x86-64 library and program that needs only glibc (the H200
 # image's Ubuntu 24.04 has a newer glibc than Debian 12's). Idempotent: re-run to refresh.
@@ -18,7 +20,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 deps=.gpu-deps
 packages=(catch2 libcli11-dev nlohmann-json3-dev opencl-c-headers opencl-clhpp-headers
-          ocl-icd-libopencl1 ocl-icd-opencl-dev clinfo)
+          ocl-icd-libopencl1 ocl-icd-opencl-dev clinfo libtinygltf2d libstb0)
 
 rm -rf "$deps"
 mkdir -p "$deps/debs" "$deps/root"
@@ -46,7 +48,8 @@ need=(usr/include/catch2/catch.hpp usr/lib/cmake/Catch2/Catch2Config.cmake
       usr/include/CLI/CLI.hpp usr/share/cmake/CLI11/CLI11Config.cmake
       usr/include/nlohmann/json.hpp usr/share/cmake/nlohmann_json/nlohmann_jsonConfig.cmake
       usr/include/CL/cl.h usr/include/CL/opencl.hpp
-      usr/lib/x86_64-linux-gnu/libOpenCL.so.1 usr/lib/x86_64-linux-gnu/libOpenCL.so usr/bin/clinfo)
+      usr/lib/x86_64-linux-gnu/libOpenCL.so.1 usr/lib/x86_64-linux-gnu/libOpenCL.so usr/bin/clinfo
+      usr/lib/x86_64-linux-gnu/libtinygltf.so.2d usr/lib/x86_64-linux-gnu/libstb.so.0)
 for f in "${need[@]}"; do
     if [ ! -e "$deps/root/$f" ]; then
         echo "gpu-prereqs: $f is missing from the unpacked packages" >&2

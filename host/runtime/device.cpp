@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <cerrno>
 #include <cstdlib>
 #include <functional>
@@ -278,7 +279,7 @@ bool exact_float_requested()
     throw Error(Error::Kind::InvalidArgument, std::string("CLVIS_EXACT_FLOAT must be 0 or 1, got '") + v + "'");
 }
 
-/// CLVIS_BUILD_LOG=1 (clvis --verbose): each program built from source prints its build log,
+/// CLVIS_BUILD_LOG=1 (clvis --verbose): each program built from source prints its build seconds and log,
 /// compiler warnings included, on standard error. Otherwise programs are built with -w: PoCL's
 /// Clang prints its diagnostics' count ("11 warnings generated.") on the process's standard error
 /// itself, which -q and every caller of the library would otherwise get.
@@ -464,10 +465,18 @@ cl::Program Device::Impl::build_source(const std::string& name, const std::strin
     cl::Program program;
     try {
         program = cl::Program(context, source);
+        const auto start = std::chrono::steady_clock::now();
         program.build({device}, options.c_str());
         if (verbose) {
+            // The build's seconds: a driver's compiler on a cold cache can take longer than the work.
+            const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            std::ostringstream took;
+            took.setf(std::ios::fixed);
+            took.precision(2);
+            took << seconds;
             std::string log = build_log(program);
-            std::cerr << "clvis: built " << name << " for " << info.name << " with '" << options << "'"
+            std::cerr << "clvis: built " << name << " for " << info.name << " in " << took.str() << " s with '"
+                      << options << "'"
                       << (log.find_first_not_of(" \n") == std::string::npos ? ": no messages\n" : ":\n" + log);
         }
     } catch (const cl::BuildError& e) {
