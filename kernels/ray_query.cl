@@ -11,13 +11,16 @@
    conservatively, world vertices computed on the fly with the expansion's bits), so every answer
    equals the expansion's; without it the walk is the flat tree's. The walk's order never changes
    an answer (ties go to the lower id whatever the order). No packet assumption: incoherent rays
-   (ambient occlusion, shadows, random) walk on their own. */
+   (ambient occlusion, shadows, random) walk on their own. A leaf's triangles are tested four at a
+   time (shared/tri4.h), the scalar test's bits lane by lane; the SAH sizes leaves for it
+   (host/ray/bvh_build.cpp, leaf_test_cost). */
 #include "shared/brute_scene.h"
 #include "shared/bvh.h"
 #include "shared/bvh_boxes.h"
 #include "shared/instance.h"
 #include "shared/ray.h"
 #include "shared/ray_query.h"
+#include "shared/tri4.h"
 #include "shared/visibility.h"
 
 #ifndef CLVIS_QUERY
@@ -198,22 +201,83 @@ static float query_far(clvis_ray_rec r, const answer* a)
 #endif
 }
 
-/* Tests the n triangles of a leaf from `first`, those of instance xi (none: world-space already). */
+/* Tests the n triangles of a leaf from `first`, those of instance xi (none: world-space already),
+   four at a time (shared/tri4.h); the scalar test decides the lanes that need its fallbacks. Each
+   query's answer is order-independent (closest: the least (t, id); all: the K least, inserted in
+   order; any, count), so it is the one the triangles tested one by one give. */
 static int leaf(__global const clvis_bvh_tri* tris, uint first, uint n, __global const clvis_instance* xi,
                 clvis_ray_shear s, clvis_ray_rec r, answer* a)
 {
-    for (uint k = first; k < first + n; ++k) {
-        __global const clvis_bvh_tri* tr = tris + k;
+    for (uint g = first; g < first + n; g += 4u) {
+        uint m = min(first + n - g, 4u);
+        clvis_tri4_verts vq;
 #ifdef CLVIS_INSTANCES
-        float v[9];
-        uint id = clvis_instance_triangle(tr, xi, v);
-        clvis_vec3 v0 = {v[0], v[1], v[2]}, v1 = {v[3], v[4], v[5]}, v2 = {v[6], v[7], v[8]};
-        if (test_triangle(s, v0, v1, v2, id, r.tmin, query_far(r, a), a)) return 1;
+        clvis_tri4_load_instance(tris, g, m, xi, &vq);
 #else
-        clvis_vec3 v0 = {tr->v0_x, tr->v0_y, tr->v0_z}, v1 = {tr->v1_x, tr->v1_y, tr->v1_z};
-        clvis_vec3 v2 = {tr->v2_x, tr->v2_y, tr->v2_z};
-        if (test_triangle(s, v0, v1, v2, tr->id, r.tmin, query_far(r, a), a)) return 1;
+        (void)xi;
+        clvis_tri4_load(tris, g, m, &vq);
 #endif
+        clvis_tri4 q;
+        clvis_tri4_test(s, &vq, m, r.tmin, query_far(r, a), &q);
+#if CLVIS_QUERY == CLVIS_QUERY_ANY
+        if (q.hits) {
+            a->id = 1u;
+            return 1;
+        }
+#elif CLVIS_QUERY == CLVIS_QUERY_COUNT
+        a->count += (uint)popcount(q.hits);
+#else
+        if (q.hits) {
+            float t[4], v[4], w[4], det[4];
+            uint id[4];
+            vstore4(q.t, 0, t), vstore4(q.v, 0, v), vstore4(q.w, 0, w), vstore4(q.det, 0, det);
+            vstore4(q.id, 0, id);
+#if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
+            /* the least (t, id) of the hits and the answer so far; one division for the winner */
+            int best = -1;
+            float bt = a->t;
+            uint bid = a->id;
+            for (int k = 0; k < 4; ++k) {
+                float tk = t[k] + 0.0f; /* -0 becomes +0: the key orders by bits */
+                if ((q.hits & (1 << k)) && (tk < bt || (tk == bt && id[k] < bid))) {
+                    bt = tk;
+                    bid = id[k];
+                    best = k;
+                }
+            }
+            if (best >= 0) {
+                a->t = bt;
+                a->id = bid;
+                a->u = v[best] / det[best];
+                a->v = w[best] / det[best];
+            }
+#else
+            for (int k = 0; k < 4; ++k) {
+                if (!(q.hits & (1 << k))) continue;
+                float tk = t[k] + 0.0f; /* -0 becomes +0: the key orders by bits */
+                clvis_tri_2d p;
+                p.v = v[k];
+                p.w = w[k];
+                a->count += 1u;
+                insert_hit(a, tk, id[k], p, det[k]);
+            }
+#endif
+        }
+#endif
+        for (int k = 0; q.redo >> k; ++k) {
+            if (!(q.redo & (1 << k))) continue;
+#ifdef CLVIS_INSTANCES
+            float v[9];
+            uint id = clvis_instance_triangle(tris + g + (uint)k, xi, v);
+            clvis_vec3 v0 = {v[0], v[1], v[2]}, v1 = {v[3], v[4], v[5]}, v2 = {v[6], v[7], v[8]};
+#else
+            __global const clvis_bvh_tri* tr = tris + g + (uint)k;
+            clvis_vec3 v0 = {tr->v0_x, tr->v0_y, tr->v0_z}, v1 = {tr->v1_x, tr->v1_y, tr->v1_z};
+            clvis_vec3 v2 = {tr->v2_x, tr->v2_y, tr->v2_z};
+            uint id = tr->id;
+#endif
+            if (test_triangle(s, v0, v1, v2, id, r.tmin, query_far(r, a), a)) return 1;
+        }
     }
     return 0;
 }
