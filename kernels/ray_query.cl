@@ -231,7 +231,7 @@ static int leaf(__global const clvis_bvh_tri* tris, uint first, uint n, __global
             float t[4], v[4], w[4], det[4];
             uint id[4];
             vstore4(q.t, 0, t), vstore4(q.v, 0, v), vstore4(q.w, 0, w), vstore4(q.det, 0, det);
-            vstore4(q.id, 0, id);
+            vstore4(vq.id, 0, id);
 #if CLVIS_QUERY == CLVIS_QUERY_CLOSEST
             /* the least (t, id) of the hits and the answer so far; one division for the winner */
             int best = -1;

@@ -12,6 +12,7 @@
 #include <cctype>
 #include <chrono>
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <functional>
 #include <iostream>
@@ -469,13 +470,11 @@ cl::Program Device::Impl::build_source(const std::string& name, const std::strin
         program.build({device}, options.c_str());
         if (verbose) {
             // The build's seconds: a driver's compiler on a cold cache can take longer than the work.
-            const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            std::ostringstream took;
-            took.setf(std::ios::fixed);
-            took.precision(2);
-            took << seconds;
+            char took[32];
+            std::snprintf(took, sizeof took, "%.2f",
+                          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
             std::string log = build_log(program);
-            std::cerr << "clvis: built " << name << " for " << info.name << " in " << took.str() << " s with '"
+            std::cerr << "clvis: built " << name << " for " << info.name << " in " << took << " s with '"
                       << options << "'"
                       << (log.find_first_not_of(" \n") == std::string::npos ? ": no messages\n" : ":\n" + log);
         }

@@ -20,16 +20,14 @@
 #include "shared/ray.h"
 
 /* Four triangles against one ray: per lane the edge functions v (c->a) and w (a->b), det and the
-   ray parameter t, the triangle's id, and as bit masks (bit k: lane k) the lanes hit and the lanes
-   the scalar test must decide. */
+   ray parameter t, and as bit masks (bit k: lane k) the lanes hit and the lanes the scalar test
+   must decide. */
 typedef struct clvis_tri4 {
     float4 v, w, det, t;
-    uint4 id;
     int hits, redo;
 } clvis_tri4;
 
-/* clvis_min3f, clvis_max3f and clvis_absf lane by lane (the same comparisons: the same NaN and -0
-   choices). */
+/* clvis_min3f and clvis_max3f lane by lane (the same comparisons: the same NaN and -0 choices). */
 static inline float4 clvis_min3f4(float4 x, float4 y, float4 z)
 {
     float4 m = select(y, x, x < y);
@@ -41,8 +39,6 @@ static inline float4 clvis_max3f4(float4 x, float4 y, float4 z)
     float4 m = select(y, x, x > y);
     return select(z, m, m > z);
 }
-
-static inline float4 clvis_absf4(float4 x) { return select(x, -x, x < 0.0f); }
 
 /* clvis_component with a lane-uniform axis. */
 static inline float4 clvis_pick4(int k, float4 x, float4 y, float4 z) { return k == 0 ? x : (k == 1 ? y : z); }
@@ -89,7 +85,12 @@ static inline CLVIS_ALWAYS_INLINE void clvis_tri4_load_instance(__global const c
     uint id[4];
     for (uint k = 0; k < 4u; ++k) {
         float v[9];
-        id[k] = clvis_instance_triangle(tris + g + (k < m ? k : 0u), xi, v);
+        if (k < m) {
+            id[k] = clvis_instance_triangle(tris + g + k, xi, v);
+        } else { /* the lanes past m repeat lane 0, transformed once */
+            id[k] = id[0];
+            for (int j = 0; j < 9; ++j) v[j] = c[j][0];
+        }
         for (int j = 0; j < 9; ++j) c[j][k] = v[j];
     }
     q->x0 = vload4(0, c[0]); q->y0 = vload4(0, c[1]); q->z0 = vload4(0, c[2]);
@@ -108,7 +109,6 @@ static inline CLVIS_ALWAYS_INLINE void clvis_tri4_test(clvis_ray_shear s, const 
     float4 Ax = q->x0 * 1.0f - ox, Ay = q->y0 * 1.0f - oy, Az = q->z0 * 1.0f - oz;
     float4 Bx = q->x1 * 1.0f - ox, By = q->y1 * 1.0f - oy, Bz = q->z1 * 1.0f - oz;
     float4 Cx = q->x2 * 1.0f - ox, Cy = q->y2 * 1.0f - oy, Cz = q->z2 * 1.0f - oz;
-    out->id = q->id;
     float4 akz = clvis_pick4(s.kz, Ax, Ay, Az), bkz = clvis_pick4(s.kz, Bx, By, Bz);
     float4 ckz = clvis_pick4(s.kz, Cx, Cy, Cz);
     float4 ax = clvis_pick4(s.kx, Ax, Ay, Az) - s.sx * akz;
@@ -137,14 +137,15 @@ static inline CLVIS_ALWAYS_INLINE void clvis_tri4_test(clvis_ray_shear s, const 
     /* Lanes on the float path (tz finite where det is: clvis_float_finite) that the ray passes
        outside: misses without tz. Where every lane is one, nothing else is computed. */
     int4 small = (mm <= 0x1p24f) & (int4)(z <= 0x1p24f ? -1 : 0);
-    int4 plain_miss = edges & trusted & clvis_finite4(det) & small & ~inside;
+    int4 det_finite = clvis_finite4(det);
+    int4 plain_miss = edges & trusted & det_finite & small & ~inside;
     if (!clvis_mask4(active & ~plain_miss)) {
         out->hits = out->redo = 0;
         return;
     }
     float4 tz = u * (s.sz * akz) + v * (s.sz * bkz) + w * (s.sz * ckz);
     float4 t = tz / det * 1.0f; /* clvis_triangle_t: unscale = 1 / k = 1 */
-    int4 finite = clvis_finite4(det) & clvis_finite4(tz);
+    int4 finite = det_finite & clvis_finite4(tz);
     int4 simple = edges & trusted & finite;
     /* clvis_float_misses lane by lane: a certain miss needs no retest */
     int4 miss = (int4)(0);
@@ -155,9 +156,10 @@ static inline CLVIS_ALWAYS_INLINE void clvis_tri4_test(clvis_ray_shear s, const 
         int4 outside = (clvis_max3f4(u, v, w) > 2.0f * e) & (clvis_min3f4(u, v, w) < -2.0f * e);
         int4 behind = (int4)(0);
         if (near_t >= 0.0f) {
-            float4 sum = clvis_absf4(u) + clvis_absf4(v) + clvis_absf4(w);
+            /* fabs where clvis_absf keeps a -0: only compared, a zero's sign changes nothing */
+            float4 sum = fabs(u) + fabs(v) + fabs(w);
             float4 et = z * mm * (4.0f * e + 0x1p-21f * sum), ed = 4.0f * e + 0x1p-22f * sum;
-            behind = (clvis_absf4(tz) > 2.0f * et) & (clvis_absf4(det) > 2.0f * ed) & ((tz < 0.0f) != (det < 0.0f));
+            behind = (fabs(tz) > 2.0f * et) & (fabs(det) > 2.0f * ed) & ((tz < 0.0f) != (det < 0.0f));
         }
         miss = bounded & (outside | behind);
     }
