@@ -1,5 +1,6 @@
 /* Answers ray queries for any batch of rays (closest hit, any hit, hit count, all hits; CONVENTIONS.md
-   "Ray queries", "Depth layers"), a run of rays per work-item (CLVIS_QUERY_LANES of them walked interleaved), through
+   "Ray queries", "Depth layers"), a run of rays per work-item (CLVIS_QUERY_LANES of them walked interleaved;
+   on PoCL's CPU device one lane in work-groups of one work-item, host/query/ray_query.cpp), through
    the wide BVH that ray_trace.cl reads (shared/bvh.h);
    ray_query_brute tests every triangle in id order instead, the reference the BVH walk must
    equal (shared/brute_scene.h: the expansion's arrays, or with CLVIS_SCENE_ITEMS the meshes once

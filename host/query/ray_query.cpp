@@ -34,6 +34,17 @@ constexpr std::size_t group_items = 64;
 /// Rays per work-item per lane when RayQueryOptions::lanes > 1 (a lane whose ray is answered
 /// takes the work-item's next one).
 constexpr int items_per_lane = 4;
+/// PoCL's CPU device (Built::runs): rays a one-work-item group answers at most, and the groups each
+/// compute unit gets at least before runs shorten.
+constexpr std::size_t run_max = 64;
+constexpr std::size_t runs_per_unit = 16;
+
+/// The run of rays per work-item for a batch of m rays on `units` compute units.
+std::size_t run_rays(std::size_t m, unsigned units)
+{
+    std::size_t groups = std::size_t(std::max(1u, units)) * runs_per_unit;
+    return std::clamp<std::size_t>(m / groups, 1, run_max);
+}
 
 static_assert(CLVIS_MAX_ALL_HITS == ray_query_max_hits, "the limit shared with kernels/shared/ray_query.h");
 
@@ -109,6 +120,13 @@ cl::Kernel& RayQuery::Impl::kernel(RayQueryKind kind)
         b.kernel = cl::Kernel(r.dev().program("ray_query", defs), options.brute ? "ray_query_brute" : "ray_query");
         std::size_t max_group = b.kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(r.dev().device);
         b.group = std::max<std::size_t>(1, std::min(group_items, max_group));
+        // On PoCL's CPU device a work-group's work-items are a loop, and the kernel's private
+        // arrays (the walk's stack, the ray) become arrays over the group's work-items, addressed
+        // per work-item at every step; a group of one work-item that answers a run of rays keeps
+        // them in registers and on the stack (AO rays through the bunny: 5 % less time, the same
+        // answers; docs/architecture.md).
+        b.runs = !options.brute && b.lanes == 1 && r.dev().cpu_hints();
+        if (b.runs) b.group = 1;
         b.stack = stack;
         b.two_level = two_level;
     }
@@ -192,7 +210,7 @@ void RayQuery::Impl::batch(RayQueryKind kind, const Source& src, const Sink& dst
         k.setArg(a++, sizeof(cl_mem), nullptr);
         k.setArg(a++, cl_uint(0));
     } else {
-        per_item = built_now.per_item;
+        per_item = built_now.runs ? run_rays(m, r.dev().info.compute_units) : built_now.per_item;
         k.setArg(a++, r.ray->nodes());
         k.setArg(a++, cl_uint(r.ray->node_count()));
         k.setArg(a++, r.ray->triangles());

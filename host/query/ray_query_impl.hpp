@@ -20,6 +20,9 @@ struct RayQuery::Impl {
         bool two_level = false; ///< a scene with instances: built with CLVIS_INSTANCES (brute: CLVIS_SCENE_ITEMS)
         int lanes = 1;          ///< CLVIS_QUERY_LANES: rays a work-item walks interleaved
         std::size_t per_item = 1; ///< rays a work-item answers
+        /// PoCL's CPU device, one lane: work-groups of one work-item, each answering a run of rays
+        /// (run_rays: its length by the batch); see kernel()
+        bool runs = false;
     };
     Built built[3];
     /// All hits: per list length (the powers of two 1 .. 64, CLVIS_MAX_HITS) and whether counts

@@ -83,6 +83,10 @@ static inline void clvis_prefetch_child(CLVIS_GLOBAL const clvis_wide_node* node
     /* a node's cache lines, or a leaf's first two of triangles (past the end: no fault) */
     if (n->count[k] == 0) {
         CLVIS_GLOBAL const char* p = (CLVIS_GLOBAL const char*)(nodes + n->child[k]);
+        /* unrolled: PoCL's compiler kept the loop over the lines, 4 instructions a line */
+#ifdef __OPENCL_C_VERSION__
+#pragma unroll
+#endif
         for (int line = 0; line < (int)sizeof(clvis_wide_node); line += 64) CLVIS_PREFETCH_LINE(p + line);
     } else {
         CLVIS_GLOBAL const char* p = (CLVIS_GLOBAL const char*)(tris + n->child[k]);
