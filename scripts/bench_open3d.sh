@@ -10,7 +10,9 @@
 #    puts DIR (a site-packages holding a built clvis, e.g. .venv/lib/python3.11/site-packages) first
 #    on PYTHONPATH instead; the module needs no numpy of its own build (nanobind).
 # Usage: bash scripts/bench_open3d.sh [bench_open3d.py flags]   (--help lists them)
-# Idempotent; a second run installs nothing. Timings of the install go to stderr.
+# Idempotent: a second run installs nothing unless the sources changed since clvis was installed
+# (another commit, or other uncommitted changes: then it is rebuilt; CLVIS_BENCH_REBUILD=1 forces
+# it). Timings of the install go to stderr.
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 venv="$repo/.venv-bench"
@@ -30,9 +32,20 @@ if ! "$py" -c 'import open3d, numpy' 2>/dev/null; then
        "$venv holds $(du -sh "$venv" | cut -f1)" >&2
 fi
 
+# What the installed module was built from: the commit and a hash of the uncommitted changes to
+# tracked files (empty outside a git checkout: then it is rebuilt every run). A module built from
+# other sources is rebuilt, so the bench never times stale code.
+source_state() {
+  local head
+  head=$(git -C "$repo" rev-parse HEAD 2>/dev/null) || { echo ""; return 0; }
+  echo "$head $(git -C "$repo" diff HEAD 2>/dev/null | sha1sum | cut -c1-12)"
+}
+
 if [ -n "${CLVIS_BENCH_PYTHONPATH:-}" ]; then
   export PYTHONPATH="$CLVIS_BENCH_PYTHONPATH${PYTHONPATH:+:$PYTHONPATH}"
-elif ! (cd / && "$py" -c 'import clvis' 2>/dev/null) || [ -n "${CLVIS_BENCH_REBUILD:-}" ]; then
+elif stamp="$venv/.clvis-source"; source_id=$(source_state) &&
+     ! { (cd / && "$py" -c 'import clvis' 2>/dev/null) && [ -z "${CLVIS_BENCH_REBUILD:-}" ] &&
+         [ -n "$source_id" ] && [ "$(cat "$stamp" 2>/dev/null)" = "$source_id" ]; }; then
   if ! "$py" -c 'import nanobind, scikit_build_core' 2>/dev/null; then
     pipq "nanobind>=2" "scikit-build-core>=0.10"
   fi
@@ -43,6 +56,7 @@ elif ! (cd / && "$py" -c 'import clvis' 2>/dev/null) || [ -n "${CLVIS_BENCH_REBU
   t0=$(date +%s)
   echo "[bench-open3d] building and installing clvis into $venv" >&2
   pipq --no-build-isolation "$repo"
+  printf '%s\n' "$source_id" > "$stamp"
   echo "[bench-open3d] clvis installed in $(( $(date +%s) - t0 )) s" >&2
 fi
 
