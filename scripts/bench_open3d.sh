@@ -37,15 +37,21 @@ fi
 # other sources is rebuilt, so the bench never times stale code.
 source_state() {
   local head
-  head=$(git -C "$repo" rev-parse HEAD 2>/dev/null) || { echo ""; return 0; }
+  head=$(git -C "$repo" rev-parse HEAD 2>/dev/null) || return 0
   echo "$head $(git -C "$repo" diff HEAD 2>/dev/null | sha1sum | cut -c1-12)"
+}
+stamp="$venv/.clvis-source"
+source_id=$(source_state)
+
+# Whether the installed clvis was built from these sources (and no rebuild is asked for).
+installed_current() {
+  [ -z "${CLVIS_BENCH_REBUILD:-}" ] && [ -n "$source_id" ] &&
+    [ "$(cat "$stamp" 2>/dev/null)" = "$source_id" ] && (cd / && "$py" -c 'import clvis' 2>/dev/null)
 }
 
 if [ -n "${CLVIS_BENCH_PYTHONPATH:-}" ]; then
   export PYTHONPATH="$CLVIS_BENCH_PYTHONPATH${PYTHONPATH:+:$PYTHONPATH}"
-elif stamp="$venv/.clvis-source"; source_id=$(source_state) &&
-     ! { (cd / && "$py" -c 'import clvis' 2>/dev/null) && [ -z "${CLVIS_BENCH_REBUILD:-}" ] &&
-         [ -n "$source_id" ] && [ "$(cat "$stamp" 2>/dev/null)" = "$source_id" ]; }; then
+elif ! installed_current; then
   if ! "$py" -c 'import nanobind, scikit_build_core' 2>/dev/null; then
     pipq "nanobind>=2" "scikit-build-core>=0.10"
   fi
