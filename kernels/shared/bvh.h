@@ -45,25 +45,21 @@ typedef CLVIS_PASTE(int, CLVIS_BVH_WIDTH) clvis_wint;
 #define clvis_vload_w CLVIS_PASTE(vload, CLVIS_BVH_WIDTH)
 #define clvis_vstore_w CLVIS_PASTE(vstore, CLVIS_BVH_WIDTH)
 
-/* Bit k set where lane k of a comparison's mask is (all bits set there). On a little-endian
-   device the lanes are narrowed to bytes (0 or 0xFF, lane k in byte k), byte k keeps its own bit,
-   and one multiply sums the bytes into the top byte (no carries: each is a different bit); a
-   big-endian one ORs the lanes. PoCL compiled the lane-by-lane OR into an extract and a test of
-   each lane where the walk tests the slots; this form costs a few instructions once, then the
-   slots are a register's bits (issue 37: AO queries 2-5 % faster, docs/architecture.md). */
+/* Bit k set where lane k of a comparison's mask is (all bits set there). On x86 (PoCL's CPU
+   device) the lanes' sign bits in one instruction: PoCL compiled the lanes ORed one by one into an
+   extract and a test of each lane where the walk tests the slots, and the walk waited on those
+   chains (issue 37, docs/architecture.md). Elsewhere the lanes ORed. */
 static inline int clvis_wmask_bits(clvis_wint m)
 {
-#if !defined(__ENDIAN_LITTLE__) && CLVIS_BVH_WIDTH == 8
+#if CLVIS_BVH_WIDTH == 8 && defined(__AVX__)
+    return __builtin_ia32_movmskps256(as_float8(m));
+#elif CLVIS_BVH_WIDTH == 4 && defined(__SSE__)
+    return __builtin_ia32_movmskps(as_float4(m));
+#elif CLVIS_BVH_WIDTH == 8
     return (m.s0 & 1) | (m.s1 & 2) | (m.s2 & 4) | (m.s3 & 8) | (m.s4 & 16) | (m.s5 & 32) | (m.s6 & 64) |
            (m.s7 & 128);
-#elif !defined(__ENDIAN_LITTLE__)
-    return (m.s0 & 1) | (m.s1 & 2) | (m.s2 & 4) | (m.s3 & 8);
-#elif CLVIS_BVH_WIDTH == 8
-    ulong x = as_ulong(convert_char8(m)) & 0x8040201008040201UL;
-    return (int)((x * 0x0101010101010101UL) >> 56);
 #else
-    uint x = as_uint(convert_char4(m)) & 0x08040201u;
-    return (int)((x * 0x01010101u) >> 24);
+    return (m.s0 & 1) | (m.s1 & 2) | (m.s2 & 4) | (m.s3 & 8);
 #endif
 }
 #endif
