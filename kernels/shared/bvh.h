@@ -45,16 +45,14 @@ typedef CLVIS_PASTE(int, CLVIS_BVH_WIDTH) clvis_wint;
 #define clvis_vload_w CLVIS_PASTE(vload, CLVIS_BVH_WIDTH)
 #define clvis_vstore_w CLVIS_PASTE(vstore, CLVIS_BVH_WIDTH)
 
-/* Bit k set where lane k of a comparison's mask is (all bits set there). On x86 (PoCL's CPU
-   device) the lanes' sign bits in one instruction: PoCL compiled the lanes ORed one by one into an
-   extract and a test of each lane where the walk tests the slots, and the walk waited on those
-   chains (issue 37, docs/architecture.md). Elsewhere the lanes ORed. */
+/* Bit k set where lane k of a comparison's mask is (all bits set there). On x86 with AVX (PoCL's
+   CPU device) the eight lanes' sign bits in one instruction: PoCL compiled the lanes ORed one by
+   one into an extract and a test of each lane where the walk tests the slots, and the walk waited
+   on those chains (issue 37, docs/architecture.md). Elsewhere, and at width 4, the lanes ORed. */
 static inline int clvis_wmask_bits(clvis_wint m)
 {
 #if CLVIS_BVH_WIDTH == 8 && defined(__AVX__)
     return __builtin_ia32_movmskps256(as_float8(m));
-#elif CLVIS_BVH_WIDTH == 4 && defined(__SSE__)
-    return __builtin_ia32_movmskps(as_float4(m));
 #elif CLVIS_BVH_WIDTH == 8
     return (m.s0 & 1) | (m.s1 & 2) | (m.s2 & 4) | (m.s3 & 8) | (m.s4 & 16) | (m.s5 & 32) | (m.s6 & 64) |
            (m.s7 & 128);
