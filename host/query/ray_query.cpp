@@ -255,6 +255,45 @@ void RayQuery::Impl::batch(RayQueryKind kind, const Source& src, const Sink& dst
                         done.getProfilingInfo<CL_PROFILING_COMMAND_START>()) * 1e-6;
 }
 
+void RayQuery::Impl::wrap_host(RayQueryKind kind, Source& src, Sink& dst, HostWrap& w)
+{
+    if (!r.dev().cpu_hints()) return;
+    const std::size_t n = src.in.count;
+    try {
+        if (!src.in.on_device && !src.in.soa) {
+            w.rays = cl::Buffer(r.dev().context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, n * sizeof(RayRecord),
+                                const_cast<RayRecord*>(src.in.records));
+            w.device_rays = DeviceRays{w.rays(), RayLayout::AoS, n, 0};
+            src = Source{RayInput(w.device_rays), n};
+        } else if (src.in.soa) {
+            // planes one stride apart in one array (NumPy's (8, N)): one buffer over all eight
+            const RaySoA& f = src.in.fields;
+            const float* planes[CLVIS_RAY_FIELDS] = {f.ox, f.oy, f.oz, f.tmin, f.dx, f.dy, f.dz, f.tmax};
+            // by address (the planes may be separate arrays: no pointer arithmetic across them)
+            auto at = [&](int k) { return reinterpret_cast<std::uintptr_t>(planes[k]); };
+            std::uintptr_t gap = at(1) - at(0), stride = gap / sizeof(float);
+            bool even = at(1) > at(0) && gap % sizeof(float) == 0 && stride >= n;
+            for (int k = 2; k < CLVIS_RAY_FIELDS && even; ++k) even = at(k) > at(k - 1) && at(k) - at(k - 1) == gap;
+            if (even) {
+                std::size_t bytes = (std::size_t(stride) * (CLVIS_RAY_FIELDS - 1) + n) * sizeof(float);
+                w.rays = cl::Buffer(r.dev().context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, bytes,
+                                    const_cast<float*>(f.ox));
+                w.device_rays = DeviceRays{w.rays(), RayLayout::SoA, n, std::size_t(stride)};
+                src = Source{RayInput(w.device_rays), std::size_t(stride)};
+            }
+        }
+        if (dst.host && kind != RayQueryKind::All) {
+            w.out = cl::Buffer(r.dev().context, CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, n * result_bytes(kind), dst.host);
+            w.device_out = DeviceResults{w.out(), RayLayout::AoS, 0};
+            dst = Sink{};
+            dst.device = &w.device_out;
+            dst.stride = n;
+        }
+    } catch (const cl::Error&) {
+        // a driver that refuses the caller's memory: the staging buffers, as elsewhere
+    }
+}
+
 RayQueryStats RayQuery::Impl::run(RayQueryKind kind, const Source& src, const Sink& dst)
 {
     auto t0 = std::chrono::steady_clock::now();
@@ -271,12 +310,37 @@ RayQueryStats RayQuery::Impl::run(RayQueryKind kind, const Source& src, const Si
             per_batch = std::max<std::size_t>(1, per_batch / hits_per_ray);
         }
         std::size_t step = std::min(n, per_batch);
-        reserve(step, result_bytes(kind) * hits_per_ray);
+        Source in = src;
+        Sink out = dst;
+        HostWrap wrap; // dst may point into it: it lives as long as the batches
+        wrap_host(kind, in, out, wrap);
+        if (!in.in.on_device || !out.device) reserve(step, result_bytes(kind) * hits_per_ray);
+        else if (!invalid()) invalid = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, sizeof(cl_uint));
         if (kind == RayQueryKind::All && all.counts && step > counts_capacity) {
             staged_counts = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, step * sizeof(cl_uint));
             counts_capacity = step;
         }
-        for (std::size_t first = 0; first < n; first += step) batch(kind, src, dst, first, std::min(step, n - first), stats);
+        try {
+            for (std::size_t first = 0; first < n; first += step)
+                batch(kind, in, out, first, std::min(step, n - first), stats);
+        } catch (...) {
+            // nothing the queue still holds may touch the caller's arrays once the call is over
+            if (wrap.rays() || wrap.out()) {
+                try {
+                    r.queue.finish();
+                } catch (...) {
+                }
+            }
+            throw;
+        }
+        if (wrap.out()) {
+            // the answers made visible in the caller's array (where the device wrote them: no copy)
+            std::size_t bytes = n * result_bytes(kind);
+            void* p = r.queue.enqueueMapBuffer(wrap.out, CL_TRUE, CL_MAP_READ, 0, bytes);
+            cl::Event unmapped;
+            r.queue.enqueueUnmapMemObject(wrap.out, p, nullptr, &unmapped);
+            unmapped.wait();
+        }
     });
     stats.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return stats;

@@ -59,6 +59,19 @@ struct RayQuery::Impl {
         std::size_t stride = 0; ///< device SoA
     };
 
+    /// PoCL's CPU device reads and writes host memory where it lies: a call's host rays (AoS
+    /// records, or SoA planes evenly spaced in one array) and answers (AoS closest hits, flags, counts; not all hits, whose counts go
+    /// through their own buffer) are buffers over the caller's arrays (CL_MEM_USE_HOST_PTR), so
+    /// that no batch copies them through the staging buffers. Released when the call returns.
+    struct HostWrap {
+        cl::Buffer rays, out;
+        DeviceRays device_rays;
+        DeviceResults device_out;
+    };
+    /// Turns src's host records and dst's host answers into wrapped buffers where the device is
+    /// PoCL's CPU device (one that refuses them keeps the staging path); dst may point into w.
+    void wrap_host(RayQueryKind kind, Source& src, Sink& dst, HostWrap& w);
+
     Impl(Renderer& renderer, const RayQueryOptions& options);
     /// The kernel of `kind` (All: of the request in `all`) as built now.
     Built& built_for(RayQueryKind kind);
