@@ -87,10 +87,18 @@ static void store_answer(__global out_t* out, int layout, ulong stride, ulong i,
     if (counts) counts[i] = a->count;
 #elif CLVIS_QUERY == CLVIS_QUERY_CLOSEST
     (void)counts;
-    uint w[CLVIS_HIT_FIELDS] = {as_uint(a->t), a->id, as_uint(a->u), as_uint(a->v)};
-    for (int k = 0; k < CLVIS_HIT_FIELDS; ++k) {
-        if (layout == CLVIS_LAYOUT_AOS) out[i * CLVIS_HIT_FIELDS + (ulong)k] = w[k];
-        else out[(ulong)k * stride + i] = w[k];
+#if CLVIS_HIT_FIELDS != 4
+#error "a hit record is four words (shared/ray_query.h)"
+#endif
+    /* a record in one store (the field loop cost 36 instructions a ray, callgrind) */
+    uint4 w = (uint4)(as_uint(a->t), a->id, as_uint(a->u), as_uint(a->v));
+    if (layout == CLVIS_LAYOUT_AOS) {
+        vstore4(w, i, out);
+    } else {
+        out[i] = w.s0;
+        out[stride + i] = w.s1;
+        out[2 * stride + i] = w.s2;
+        out[3 * stride + i] = w.s3;
     }
 #elif CLVIS_QUERY == CLVIS_QUERY_ANY
     (void)counts;
