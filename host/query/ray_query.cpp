@@ -266,20 +266,20 @@ void RayQuery::Impl::wrap_host(RayQueryKind kind, Source& src, Sink& dst, HostWr
             w.device_rays = DeviceRays{w.rays(), RayLayout::AoS, n, 0};
             src = Source{RayInput(w.device_rays), n};
         } else if (src.in.soa) {
-            // planes one stride apart in one array (NumPy's (8, N)): one buffer over all eight
+            // the planes back to back in one array of 8 x n floats (NumPy's (8, N)): one buffer
+            // over it. Planes merely spaced alike (separate arrays allocated in a row) would bring
+            // the memory between them into the buffer: those are staged.
             const RaySoA& f = src.in.fields;
             const float* planes[CLVIS_RAY_FIELDS] = {f.ox, f.oy, f.oz, f.tmin, f.dx, f.dy, f.dz, f.tmax};
             // by address (the planes may be separate arrays: no pointer arithmetic across them)
             auto at = [&](int k) { return reinterpret_cast<std::uintptr_t>(planes[k]); };
-            std::uintptr_t gap = at(1) - at(0), stride = gap / sizeof(float);
-            bool even = at(1) > at(0) && gap % sizeof(float) == 0 && stride >= n;
-            for (int k = 2; k < CLVIS_RAY_FIELDS && even; ++k) even = at(k) > at(k - 1) && at(k) - at(k - 1) == gap;
-            if (even) {
-                std::size_t bytes = (std::size_t(stride) * (CLVIS_RAY_FIELDS - 1) + n) * sizeof(float);
-                w.rays = cl::Buffer(r.dev().context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, bytes,
-                                    const_cast<float*>(f.ox));
-                w.device_rays = DeviceRays{w.rays(), RayLayout::SoA, n, std::size_t(stride)};
-                src = Source{RayInput(w.device_rays), std::size_t(stride)};
+            bool packed = true;
+            for (int k = 1; k < CLVIS_RAY_FIELDS && packed; ++k) packed = at(k) == at(k - 1) + n * sizeof(float);
+            if (packed) {
+                w.rays = cl::Buffer(r.dev().context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR,
+                                    CLVIS_RAY_FIELDS * n * sizeof(float), const_cast<float*>(f.ox));
+                w.device_rays = DeviceRays{w.rays(), RayLayout::SoA, n, n};
+                src = Source{RayInput(w.device_rays), n};
             }
         }
         if (dst.host && kind != RayQueryKind::All) {

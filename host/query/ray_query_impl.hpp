@@ -60,9 +60,10 @@ struct RayQuery::Impl {
     };
 
     /// PoCL's CPU device reads and writes host memory where it lies: a call's host rays (AoS
-    /// records, or SoA planes evenly spaced in one array) and answers (AoS closest hits, flags, counts; not all hits, whose counts go
-    /// through their own buffer) are buffers over the caller's arrays (CL_MEM_USE_HOST_PTR), so
-    /// that no batch copies them through the staging buffers. Released when the call returns.
+    /// records, or SoA planes back to back in one array) and answers (AoS closest hits, flags,
+    /// counts; not all hits, whose counts go through their own buffer) are buffers over the
+    /// caller's arrays (CL_MEM_USE_HOST_PTR), so that no batch copies them through the staging
+    /// buffers. Released when the call returns.
     struct HostWrap {
         cl::Buffer rays, out;
         DeviceRays device_rays;

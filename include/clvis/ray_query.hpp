@@ -56,9 +56,9 @@ struct DeviceResults {
 struct RayQueryOptions {
     std::size_t batch_rays = std::size_t(1) << 20; ///< rays per kernel launch at most (bounds the
                                                    ///< staging buffers: 48 bytes per ray; on PoCL's
-                                                   ///< CPU device the kernels read host records or
-                                                   ///< evenly spaced planes, and write closest hit
-                                                   ///< records, flags and counts, in place)
+                                                   ///< CPU device the kernels read host records, or
+                                                   ///< planes back to back in one array, and write
+                                                   ///< closest hit records, flags and counts in place)
     bool brute = false; ///< test every triangle instead of walking the BVH (tests, tiny scenes)
     int lanes = 0;      ///< rays one work-item walks interleaved, 1..8, so their node loads
                         ///< overlap (pays where the tree misses the caches); 0 means 1
