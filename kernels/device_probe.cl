@@ -16,3 +16,11 @@ __kernel void device_probe_loops(uint trips, __global uint* done)
     done[0] = ran;
     done[2] = x;
 }
+
+/* w is a buffer over host memory (CL_MEM_USE_HOST_PTR) whose w[1] the host changed after making
+   it: w[0] receives w[1] + 1, so the host, reading its own memory after the kernel without a map,
+   learns whether the kernel saw its change and whether its write landed there. */
+__kernel void device_probe_in_place(__global uint* w)
+{
+    w[0] = w[1] + 1u;
+}

@@ -11,6 +11,7 @@
 #include <clvis/clvis.hpp>
 #include <clvis/ray_query.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -265,6 +266,12 @@ TEST_CASE("split batches, layouts and device buffers answer as one batch", "[dev
     Answers a = answer(whole, rays), b = answer(split, rays);
     CHECK(a.stats.batches == 1);
     CHECK(b.stats.batches == (rays.size() + 36) / 37);
+    // the kernels' count of invalid rays (a device word, or host memory the device works on in
+    // place) against the host's own judgement of each ray
+    std::size_t invalid = std::size_t(
+        std::count_if(rays.begin(), rays.end(), [](const RayRecord& r) { return !ray_is_valid(r); }));
+    REQUIRE(invalid > 0);
+    CHECK(a.stats.invalid == invalid);
     CHECK(b.stats.invalid == a.stats.invalid);
     for (std::size_t i = 0; i < rays.size(); ++i) {
         REQUIRE(same_hit(a.hits[i], b.hits[i]));

@@ -186,8 +186,13 @@ void RayQuery::Impl::batch(RayQueryKind kind, const Source& src, const Sink& dst
     } else if (dst.soa) {
         out_layout = CLVIS_LAYOUT_SOA;
     }
-    cl_uint zero = 0;
-    q.enqueueWriteBuffer(invalid, CL_FALSE, 0, sizeof zero, &zero);
+    const bool direct = invalid_direct() != nullptr; // set by run() where memory is used in place
+    if (direct) {
+        invalid_word = 0;
+    } else {
+        cl_uint zero = 0;
+        q.enqueueWriteBuffer(invalid, CL_FALSE, 0, sizeof zero, &zero);
+    }
 
     cl::Kernel& k = kernel(kind);
     const Built& built_now = built_for(kind);
@@ -226,7 +231,7 @@ void RayQuery::Impl::batch(RayQueryKind kind, const Source& src, const Sink& dst
     k.setArg(a++, out_layout);
     k.setArg(a++, out_stride);
     k.setArg(a++, out_offset);
-    k.setArg(a++, invalid);
+    k.setArg(a++, direct ? invalid_direct : invalid);
     std::size_t per_ray = result_bytes(kind);
     if (kind == RayQueryKind::All) {
         per_ray *= std::size_t(all.max_hits);
@@ -248,7 +253,12 @@ void RayQuery::Impl::batch(RayQueryKind kind, const Source& src, const Sink& dst
     if (kind == RayQueryKind::All && all.counts)
         q.enqueueReadBuffer(staged_counts, CL_FALSE, 0, m * 4, all.counts + first);
     cl_uint bad = 0;
-    q.enqueueReadBuffer(invalid, CL_TRUE, 0, sizeof bad, &bad);
+    if (direct) {
+        q.finish(); // the kernel and the reads above: the word is the kernel's count now
+        bad = *static_cast<volatile cl_uint*>(&invalid_word);
+    } else {
+        q.enqueueReadBuffer(invalid, CL_TRUE, 0, sizeof bad, &bad);
+    }
     stats.invalid += bad;
     stats.batches += 1;
     stats.device_ms += (done.getProfilingInfo<CL_PROFILING_COMMAND_END>() -
@@ -314,8 +324,12 @@ RayQueryStats RayQuery::Impl::run(RayQueryKind kind, const Source& src, const Si
         Sink out = dst;
         HostWrap wrap; // dst may point into it: it lives as long as the batches
         wrap_host(kind, in, out, wrap);
+        const bool direct = r.dev().host_memory_in_place();
+        if (direct && !invalid_direct())
+            invalid_direct = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, sizeof(cl_uint),
+                                        &invalid_word);
         if (!in.in.on_device || !out.device) reserve(step, result_bytes(kind) * hits_per_ray);
-        else if (!invalid()) invalid = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, sizeof(cl_uint));
+        else if (!direct && !invalid()) invalid = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, sizeof(cl_uint));
         if (kind == RayQueryKind::All && all.counts && step > counts_capacity) {
             staged_counts = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, step * sizeof(cl_uint));
             counts_capacity = step;
@@ -333,7 +347,7 @@ RayQueryStats RayQuery::Impl::run(RayQueryKind kind, const Source& src, const Si
             }
             throw;
         }
-        if (wrap.out()) {
+        if (wrap.out() && !direct) {
             // the answers made visible in the caller's array (where the device wrote them: no copy)
             std::size_t bytes = n * result_bytes(kind);
             void* p = r.queue.enqueueMapBuffer(wrap.out, CL_TRUE, CL_MAP_READ, 0, bytes);

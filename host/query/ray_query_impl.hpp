@@ -42,6 +42,11 @@ struct RayQuery::Impl {
     cl::Buffer staged_counts;     ///< all hits: counts_capacity counts
     std::size_t counts_capacity = 0;
     cl::Buffer invalid;           ///< one uint: invalid rays seen by a batch
+    /// Where the device works on host memory in place (Device::Impl::host_memory_in_place): the
+    /// invalid rays' count is this word, counted by the kernel through invalid_direct, zeroed and
+    /// read by the host around the batch without a copy.
+    cl_uint invalid_word = 0;
+    cl::Buffer invalid_direct;
     std::size_t generated_capacity = 0; ///< rays the generator's buffers hold
     cl::Buffer generated_rays;          ///< generated_capacity AoS rays (ray_generate.cpp)
     cl::Buffer generated_flags;         ///< generated_capacity any-hit flags

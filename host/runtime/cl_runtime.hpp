@@ -97,6 +97,13 @@ struct Device::Impl {
     static constexpr std::uint32_t loop_unlimited = 0xFFFFFFFFu;
     std::uint32_t measured_loop_limit = 0; ///< 0 until measured (tests may set it to force a cap)
 
+    /// Whether kernels read and write a CL_MEM_USE_HOST_PTR buffer's host memory itself, so that
+    /// the host sees a finished kernel's writes and the kernel the host's latest values without a
+    /// map or a copy (kernels/device_probe.cl, run once per device and driver where cpu_hints()
+    /// holds, on a real buffer; false elsewhere and where the probe fails).
+    bool host_memory_in_place();
+    int measured_in_place = -1; ///< -1 until probed
+
     std::mutex mutex; ///< guards programs and the default queue's host reads
     std::map<std::string, cl::Program> programs;
 };

@@ -444,6 +444,46 @@ std::uint32_t Device::Impl::loop_limit()
     return measured_loop_limit;
 }
 
+bool Device::Impl::host_memory_in_place()
+{
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (measured_in_place >= 0) return measured_in_place != 0;
+    }
+    bool in_place = false;
+    if (cpu_hints()) {
+        static std::mutex known_mutex;
+        static std::map<std::string, bool> known;
+        const std::string identity = info.platform + "\n" + info.name + "\n" + info.driver_version;
+        std::lock_guard<std::mutex> known_lock(known_mutex);
+        if (auto it = known.find(identity); it != known.end()) {
+            in_place = it->second;
+        } else {
+            try {
+                cl::Kernel probe(program("device_probe"), "device_probe_in_place");
+                std::lock_guard<std::mutex> lock(mutex);
+                // volatile: the compiler may not assume the words unchanged across the driver's calls
+                volatile cl_uint words[2] = {0, 1};
+                cl::Buffer w(context, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, sizeof words,
+                             const_cast<cl_uint*>(words));
+                words[1] = 41; // after the buffer was made: a copying driver keeps 1
+                probe.setArg(0, w);
+                queue.enqueueNDRangeKernel(probe, cl::NullRange, cl::NDRange(1), cl::NDRange(1));
+                queue.finish();
+                in_place = words[0] == 42;
+            } catch (const cl::Error&) {
+                in_place = false; // the copying path is always right
+            } catch (const Error&) {
+                in_place = false;
+            }
+            known[identity] = in_place;
+        }
+    }
+    std::lock_guard<std::mutex> lock(mutex);
+    measured_in_place = in_place ? 1 : 0;
+    return in_place;
+}
+
 std::string Device::Impl::build_options(const std::string& extra) const
 {
     std::string options = "-cl-std=CL1.2";
