@@ -69,8 +69,17 @@ void RasterPipeline::Impl::clear_frame(Frame& frame)
 
 RasterCounts RasterPipeline::Impl::read_counts(Frame& frame)
 {
-    struct { cl_uint listed[2]; cl_ulong entries, longest; } c{}; // the counters' layout
-    frame.queue.enqueueReadBuffer(counters, CL_TRUE, 0, sizeof c, &c);
+    CounterWords c{};
+    if (counters_in_place) {
+        frame.queue.finish(); // the sample's stages: the words hold their counts now
+        const volatile CounterWords& w = counter_line.words;
+        c.listed[0] = w.listed[0];
+        c.listed[1] = w.listed[1];
+        c.entries = w.entries;
+        c.longest = w.longest;
+    } else {
+        frame.queue.enqueueReadBuffer(counters, CL_TRUE, 0, sizeof c, &c);
+    }
     return {cl_ulong(c.listed[0]) | cl_ulong(c.listed[1]) << 32, c.entries, c.longest};
 }
 
@@ -93,7 +102,15 @@ template <class Enqueue> void RasterPipeline::Impl::draw_sample(Frame& frame, En
     check_loops(std::size_t(tiles_x), std::size_t(tiles_y));
     for (;;) {
         cl::Event done;
-        zero_words(frame, counters, 4, "setup");
+        // in place: no command of the queue touches them now (the last sample's counts were read
+        // after its stages finished, and nothing before setup uses them)
+        if (counters_in_place) {
+            volatile CounterWords& w = counter_line.words;
+            w.listed[0] = w.listed[1] = 0;
+            w.entries = w.longest = 0;
+        } else {
+            zero_words(frame, counters, 4, "setup");
+        }
         enqueue(done);
         frame.stages->add("setup", done);
         bin_listed(frame, tiles_x, std::size_t(tiles_x) * std::size_t(tiles_y));

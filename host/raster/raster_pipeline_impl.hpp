@@ -61,6 +61,18 @@ struct RasterPipeline::Impl {
     std::size_t clear_group = 1, zero_group = 1, vertex_group = 1, setup_group = 1, bin_group = 1, scan_items = 1;
     cl::NDRange fine_group;
     cl::Buffer counters; ///< uint[2] triangles listed by setup (low, high word), ulong bin entries, ulong longest bin
+    /// The counters' host words where the device works on host memory in place
+    /// (Device::Impl::host_memory_in_place): `counters` is a buffer over them, which the host
+    /// zeroes before a sample's setup and reads after its stages finish, with no command of its
+    /// own (each PoCL command waits for its worker threads to wake).
+    struct CounterWords {
+        cl_uint listed[2];
+        cl_ulong entries, longest;
+    };
+    struct alignas(64) CounterLine { // a cache line of their own: the kernels' atomics share it with nothing
+        CounterWords words;
+    } counter_line{};
+    bool counters_in_place = false;
     cl::Buffer projected, tris, entries, tile_counts, offsets, cursors;
     std::size_t projected_capacity = 0, tri_capacity = 0, entry_capacity = 0, tile_capacity = 0;
     bool counts_zero = true; ///< tile_counts all zero (raster_bin_scan zeroes them once read)

@@ -121,7 +121,12 @@ void RasterPipeline::Impl::reserve(cl::Buffer& buffer, std::size_t& capacity, st
 
 void RasterPipeline::Impl::make_growable_buffers()
 {
-    counters = make_buffer(3 * sizeof(cl_ulong));
+    static_assert(sizeof(CounterWords) == 3 * sizeof(cl_ulong), "the counters' layout (raster_setup.cl)");
+    counters_in_place = device.host_memory_in_place();
+    counter_line = CounterLine{};
+    counters = counters_in_place ? cl::Buffer(device.context, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR,
+                                              sizeof(CounterWords), &counter_line.words)
+                                 : make_buffer(3 * sizeof(cl_ulong));
     std::size_t tris_first = probe_tri_capacity.load(), bins_first = probe_entry_capacity.load();
     if (tris_first == 0) tris_first = first_tri_capacity;
     if (bins_first == 0) bins_first = first_entry_capacity;
