@@ -149,7 +149,6 @@ void RayQuery::Impl::reserve(std::size_t rays, std::size_t out_per_ray)
             staged_out = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, out_bytes);
             staged_out_bytes = out_bytes;
         }
-        if (!invalid()) invalid = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, sizeof(cl_uint));
     } catch (const cl::Error& e) {
         throw_cl_error(e, "allocating ray query buffers of " + std::to_string(rays) + " rays");
     }
@@ -328,8 +327,8 @@ RayQueryStats RayQuery::Impl::run(RayQueryKind kind, const Source& src, const Si
         if (direct && !invalid_direct())
             invalid_direct = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, sizeof(cl_uint),
                                         &invalid_word);
+        if (!direct && !invalid()) invalid = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, sizeof(cl_uint));
         if (!in.in.on_device || !out.device) reserve(step, result_bytes(kind) * hits_per_ray);
-        else if (!direct && !invalid()) invalid = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, sizeof(cl_uint));
         if (kind == RayQueryKind::All && all.counts && step > counts_capacity) {
             staged_counts = cl::Buffer(r.dev().context, CL_MEM_READ_WRITE, step * sizeof(cl_uint));
             counts_capacity = step;

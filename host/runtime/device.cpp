@@ -301,6 +301,13 @@ std::string build_log(const cl::Program& program)
     return log;
 }
 
+/// A device and its driver, as the process-wide caches of the probes key them (every Device::open
+/// of the same device and driver would measure the same).
+std::string driver_identity(const DeviceInfo& info)
+{
+    return info.platform + "\n" + info.name + "\n" + info.driver_version;
+}
+
 } // namespace
 
 } // namespace clvis::detail
@@ -414,7 +421,7 @@ std::uint32_t Device::Impl::loop_limit()
     // (and a simulator such as Oclgrind takes seconds to run the probe).
     static std::mutex known_mutex;
     static std::map<std::string, std::uint32_t> known;
-    const std::string identity = info.platform + "\n" + info.name + "\n" + info.driver_version;
+    const std::string identity = detail::driver_identity(info);
     {
         std::lock_guard<std::mutex> lock(mutex);
         if (measured_loop_limit != 0) return measured_loop_limit;
@@ -454,7 +461,7 @@ bool Device::Impl::host_memory_in_place()
     if (cpu_hints()) {
         static std::mutex known_mutex;
         static std::map<std::string, bool> known;
-        const std::string identity = info.platform + "\n" + info.name + "\n" + info.driver_version;
+        const std::string identity = detail::driver_identity(info);
         std::lock_guard<std::mutex> known_lock(known_mutex);
         if (auto it = known.find(identity); it != known.end()) {
             in_place = it->second;
