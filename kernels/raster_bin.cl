@@ -2,7 +2,8 @@
    raster_bin_count counts the triangles touching each tile, raster_bin_scan turns the counts
    into bin offsets, raster_bin_fill writes each bin (the entries its capacity holds: the host
    reads the total back at the end of the frame and redraws it with larger bins when they
-   overflowed); raster_fine.cl walks the bins. Only 32-bit atomics: it builds on devices without 64-bit ones. */
+   overflowed); raster_fine.cl walks the bins. raster_bin_small does all three in one launch for
+   small frames on PoCL's CPU device. Only 32-bit atomics: it builds on devices without 64-bit ones. */
 #include "shared/raster.h"
 
 /* Calls BODY(tile) for every tile of `tile_log2` whose pixel centres triangle t may cover. Most
@@ -105,4 +106,47 @@ __kernel void raster_bin_fill(__global const clvis_raster_tri* tris, __global co
         uint slot = atomic_inc(&cursors[tile]);
         if (slot < capacity) entries[slot] = k;
     })
+}
+
+/* The three kernels above in one work-group, for a short list over few tiles (the host's
+   bin_listed: PoCL's CPU device, where each launch of a small frame costs more than the binning
+   itself): the tiles' counts and cursors in local memory (`cursor`, tile_count words), then the
+   same offsets, counters and entries as raster_bin_scan and raster_bin_fill write (a bin's
+   entries in another order: raster_fine.cl keeps the least key whatever the order). Neither
+   tile_counts nor cursors is touched. */
+__kernel void raster_bin_small(__global const clvis_raster_tri* tris, __global const uint* listed, uint tri_capacity,
+                               int tile_log2, int tiles_x, uint tile_count, __global uint* offsets,
+                               __global ulong* counters, __global uint* entries, uint capacity,
+                               volatile __local uint* cursor)
+{
+    uint lid = (uint)get_local_id(0), size = (uint)get_local_size(0);
+    uint n = listed_count(listed, tri_capacity);
+    for (uint i = lid; i < tile_count; i += size) cursor[i] = 0u;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (uint k = lid; k < n; k += size) {
+        clvis_raster_tri t = tris[k];
+        CLVIS_FOR_EACH_TILE(t, tile_log2, tiles_x, atomic_inc(&cursor[tile]))
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (lid == 0) {
+        ulong total = 0, peak = 0;
+        for (uint i = 0; i < tile_count; ++i) {
+            uint c = cursor[i];
+            offsets[i] = (uint)total;
+            cursor[i] = (uint)total;
+            total += c;
+            peak = max(peak, (ulong)c);
+        }
+        offsets[tile_count] = (uint)total;
+        counters[1] = total;
+        counters[2] = peak;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (uint k = lid; k < n; k += size) {
+        clvis_raster_tri t = tris[k];
+        CLVIS_FOR_EACH_TILE(t, tile_log2, tiles_x, {
+            uint slot = atomic_inc(&cursor[tile]);
+            if (slot < capacity) entries[slot] = k;
+        })
+    }
 }

@@ -267,6 +267,20 @@ TEST_CASE("the raster path's list growth and rerun run clean on Oclgrind", "[.oc
     check_on_grind(pocl, c, Path::Raster);
 }
 
+TEST_CASE("small frames binned in one launch run clean on Oclgrind", "[.oclgrind]")
+{
+    // raster_bin_small (PoCL's CPU device's binning of small frames), forced on both devices:
+    // its local counts and cursors between barriers, the overflowing list's growth and rerun too.
+    struct SmallFrames {
+        SmallFrames() { clvis::detail::set_raster_small_frames(1); }
+        ~SmallFrames() { clvis::detail::set_raster_small_frames(-1); }
+    } on;
+    Device pocl = Device::open("portable computing language");
+    Case c = std::move(cases().front());
+    check_on_grind(pocl, c, Path::Raster);
+    check_on_grind(pocl, overflowing_list(), Path::Raster);
+}
+
 TEST_CASE("tile and BVH leaf sizes other than the defaults run clean on Oclgrind", "[.oclgrind]")
 {
     // The smallest tile with one-triangle leaves, the largest tile with the largest leaves.

@@ -59,3 +59,42 @@ TEST_CASE("lists and bins past their first capacity are grown and redrawn",
         }
     }
 }
+
+TEST_CASE("small frames binned in one launch give the keys of the three launches", "[device][raster][rusticl]")
+{
+    // raster_bin_small (one work-group: counts, offsets and entries) against raster_bin_count,
+    // raster_bin_scan and raster_bin_fill, forced either way on whatever device runs the tests:
+    // lists within its 4,096 triangles over up to 1,024 tiles, overflowing lists and bins included.
+    struct SmallFrames {
+        explicit SmallFrames(int use) { detail::set_raster_small_frames(use); }
+        ~SmallFrames() { detail::set_raster_small_frames(-1); }
+    };
+    Device d = Device::open();
+    Scene s;
+    s.add_mesh(load_mesh(std::string(CLVIS_SOURCE_DIR) + "/scenes/suzanne.obj"));
+    Bounds b = s.bounds();
+    std::vector<RasterAtomics> modes = {RasterAtomics::Off};
+    if (d.info().int64_atomics) modes.push_back(RasterAtomics::On);
+    for (const Camera& c : {Camera::framing(b), test::look(b.center() + Vec3{0.05, 0.1, 0.3},
+                                                           b.center() + Vec3{0, 0, -1}, 90, 0.01, 10)}) {
+        for (int samples : {1, 4}) {
+            for (RasterAtomics mode : modes) {
+                INFO(c.to_flags() << ", " << samples << " samples, " << to_string(mode));
+                std::vector<std::uint64_t> three, one, one_grown;
+                {
+                    SmallFrames off(0);
+                    three = keys(d, s, c, mode, samples);
+                }
+                CHECK(test::covered(split_keys(three.data(), 203, 117 * samples)) > 0);
+                {
+                    SmallFrames on(1);
+                    one = keys(d, s, c, mode, samples, 2);
+                    FirstCapacities tiny(1, 1); // every first sample overflows its list and bins
+                    one_grown = keys(d, s, c, mode, samples, 2);
+                }
+                CHECK(one == three);
+                CHECK(one_grown == three);
+            }
+        }
+    }
+}

@@ -1,6 +1,7 @@
 // The raster path: raster_setup.cl projects and clips every triangle, rasterizes the small ones
 // at once (64-bit atomic min) and lists the others; raster_bin.cl bins those into tiles (count,
-// scan, fill); raster_fine.cl rasterizes each tile's bin. Under tile ownership (RasterAtomics::Off,
+// scan, fill; on PoCL's CPU device a small frame's in one launch, raster_bin_small); raster_fine.cl
+// rasterizes each tile's bin. Under tile ownership (RasterAtomics::Off,
 // or Auto on a device without 64-bit atomics) setup lists every triangle and raster_fine.cl writes
 // every key once (the background too), with no clear and no atomics on the keys. On a device that
 // caps a work-item's loop iterations (Device::Impl::loop_limit), raster_fine.cl walks long bins in
@@ -95,7 +96,8 @@ void RasterPipeline::Impl::project_vertices(const DeviceScene& scene, Frame& fra
     frame.stages->add("setup", projected_done);
 }
 
-template <class Enqueue> void RasterPipeline::Impl::draw_sample(Frame& frame, Enqueue enqueue, bool merge)
+template <class Enqueue>
+void RasterPipeline::Impl::draw_sample(Frame& frame, Enqueue enqueue, bool merge, std::size_t triangles)
 {
     int tile = 1 << tile_log2;
     int tiles_x = (frame.width + tile - 1) / tile, tiles_y = (frame.height + tile - 1) / tile;
@@ -113,7 +115,7 @@ template <class Enqueue> void RasterPipeline::Impl::draw_sample(Frame& frame, En
         }
         enqueue(done);
         frame.stages->add("setup", done);
-        bin_listed(frame, tiles_x, std::size_t(tiles_x) * std::size_t(tiles_y));
+        bin_listed(frame, tiles_x, std::size_t(tiles_x) * std::size_t(tiles_y), triangles);
         launch_fine(frame, tiles_x, 0, merge);
         RasterCounts c = read_counts(frame);
         if (c.entries > 0xFFFFFFFFull)
@@ -154,7 +156,7 @@ void RasterPipeline::Impl::render_sample(const DeviceScene& scene, Frame& frame,
         set_setup_outputs(k, 4, frame);
         frame.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(scene.triangle_count, setup_group)),
                                          cl::NDRange(setup_group), nullptr, &done);
-    }, false);
+    }, false, scene.triangle_count);
 }
 
 cl_uint RasterPipeline::Impl::set_item_args(cl::Kernel& k, const InstancedScene& scene, const ItemChunk& c, Frame& frame,
@@ -197,7 +199,7 @@ void RasterPipeline::Impl::render_items(const InstancedScene& scene, Frame& fram
                 frame.queue.enqueueNDRangeKernel(item_setup, cl::NullRange,
                                                  cl::NDRange(round_up(c.triangle_count, setup_group)),
                                                  cl::NDRange(setup_group), nullptr, &done);
-            }, true);
+            }, true, c.triangle_count);
         }
     }
     frame.gpu_camera.sample = 0;
@@ -239,12 +241,34 @@ void RasterPipeline::Impl::render(const DeviceScene& scene, Frame& frame)
     frame.gpu_camera.sample = 0;
 }
 
-void RasterPipeline::Impl::bin_listed(Frame& frame, int tiles_x, std::size_t tile_count)
+void RasterPipeline::Impl::bin_listed(Frame& frame, int tiles_x, std::size_t tile_count, std::size_t triangles)
 {
+    cl_uint list_capacity = cl_uint(std::min<std::size_t>(tri_capacity, 0xFFFFFFFFu));
+    if (small_frames && tile_count <= small_frame_tiles &&
+        std::uint64_t(triangles) * tile_count <= small_frame_work) {
+        // A small frame on PoCL's CPU device: one launch, one thread, instead of three launches
+        // over both (each launch of such a frame waits for the device's threads longer than its
+        // work takes); the same bins.
+        cl::Event binned;
+        bin_small.setArg(0, tris);
+        bin_small.setArg(1, counters);
+        bin_small.setArg(2, list_capacity);
+        bin_small.setArg(3, cl_int(tile_log2));
+        bin_small.setArg(4, cl_int(tiles_x));
+        bin_small.setArg(5, cl_uint(tile_count));
+        bin_small.setArg(6, offsets);
+        bin_small.setArg(7, counters);
+        bin_small.setArg(8, entries);
+        bin_small.setArg(9, cl_uint(std::min<std::size_t>(entry_capacity, 0xFFFFFFFFu)));
+        bin_small.setArg(10, cl::Local(tile_count * sizeof(cl_uint)));
+        frame.queue.enqueueNDRangeKernel(bin_small, cl::NullRange, cl::NDRange(small_group), cl::NDRange(small_group),
+                                         nullptr, &binned);
+        frame.stages->add("bin", binned);
+        return;
+    }
     cl::Event counted, scanned, filled;
     if (!counts_zero) zero_words(frame, tile_counts, tile_count, "bin");
     counts_zero = false; // until raster_bin_scan is enqueued
-    cl_uint list_capacity = cl_uint(std::min<std::size_t>(tri_capacity, 0xFFFFFFFFu));
     // A short list is binned by small work-groups: a close-up lists a few hundred triangles,
     // some over hundreds of tiles each, and PoCL hands a thread a run of work-groups at once.
     std::size_t group = tri_capacity <= small_bin_list ? std::min(bin_group, small_bin_group) : bin_group;
@@ -339,6 +363,7 @@ RasterPipeline::RasterPipeline(Device::Impl& device, const RenderOptions& option
         m.bin_count = cl::Kernel(bin, "raster_bin_count");
         m.bin_scan = cl::Kernel(bin, "raster_bin_scan");
         m.bin_fill = cl::Kernel(bin, "raster_bin_fill");
+        m.bin_small = cl::Kernel(bin, "raster_bin_small");
         m.fine = cl::Kernel(device.program("raster_fine", with_layers(device.cpu_hints() ? "-DCLVIS_PREFETCH=1 -DCLVIS_STREAM=1" : "")),
                             m.pixel ? "raster_fine_pixel" : "raster_fine");
         m.pick_groups();

@@ -50,4 +50,9 @@ private:
 /// drive the growth and redraw of a frame whose list or bins overflowed.
 void set_raster_first_capacities(std::size_t triangles, std::size_t entries);
 
+/// Whether raster pipelines made from now on, in this process, bin small frames in one launch
+/// (raster_bin_small): 1 always, 0 never, -1 (the default) where the device is PoCL's CPU device
+/// without a loop limit. Tests run the one kernel on Oclgrind and the three on PoCL.
+void set_raster_small_frames(int use);
+
 } // namespace clvis::detail

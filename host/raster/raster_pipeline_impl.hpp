@@ -32,6 +32,14 @@ struct RasterPipeline::Impl {
     static constexpr std::size_t pixel_group_edge = 16;
     /// Work-items of the single work-group of raster_bin_scan, at most.
     static constexpr std::size_t scan_group = 256;
+    /// raster_bin_small (bin_listed): a sample of at most small_frame_tiles tiles whose
+    /// triangles times tiles are at most small_frame_work is binned by one work-group of
+    /// small_frame_group work-items (one: PoCL runs a group's work-items as a loop anyway; 16 and
+    /// 64 measured no faster). Measured on PoCL's CPU device (2 threads): 1k triangles at 256x144
+    /// (144 tiles) and 384x256 and 512x512, 4k at 384x256 faster in one launch; 4k at 512x512
+    /// (4M) slower.
+    static constexpr std::size_t small_frame_tiles = 1024, small_frame_group = 1;
+    static constexpr std::uint64_t small_frame_work = std::uint64_t(1) << 21;
     /// First capacities of the growable buffers (elements); they double or jump to what a frame needs.
     static constexpr std::size_t first_tri_capacity = raster_first_tri_capacity,
                                  first_entry_capacity = std::size_t(1) << 14;
@@ -51,14 +59,17 @@ struct RasterPipeline::Impl {
     bool pixel = false; ///< RasterMapping::Pixel: raster_fine_pixel
     std::uint32_t loop_limit = Device::Impl::loop_unlimited; ///< the device's, measured
     std::uint32_t fine_chunk = 0xFFFFFFFFu; ///< bin entries per launch of raster_fine.cl
-    cl::Kernel clear, zero, vertices, setup, bin_count, bin_scan, bin_fill, fine;
+    cl::Kernel clear, zero, vertices, setup, bin_count, bin_scan, bin_fill, bin_small, fine;
     cl::Kernel item_vertices, item_setup; ///< the same two stages for a chunk of items
     cl::Kernel owned_setup; ///< raster_setup built with CLVIS_RASTER_OWNED, for own_small (made on first use)
     std::string owned_setup_options; ///< its build options
     /// Clears of at least this many bytes stream their lines past the cache (visibility_clear_lines):
     /// a quarter of the device's global memory cache, or 4 MiB where it reports none.
     std::uint64_t stream_bytes = std::uint64_t(4) << 20;
-    std::size_t clear_group = 1, zero_group = 1, vertex_group = 1, setup_group = 1, bin_group = 1, scan_items = 1;
+    std::size_t clear_group = 1, zero_group = 1, vertex_group = 1, setup_group = 1, bin_group = 1, scan_items = 1,
+                small_group = 1;
+    /// raster_bin_small for small frames (bin_listed): PoCL's CPU device, no loop limit
+    bool small_frames = false;
     cl::NDRange fine_group;
     cl::Buffer counters; ///< uint[2] triangles listed by setup (low, high word), ulong bin entries, ulong longest bin
     /// The counters' host words where the device works on host memory in place
@@ -125,8 +136,9 @@ struct RasterPipeline::Impl {
     /// Runs a setup launch (`enqueue` sets its list arguments and enqueues it, signalling its
     /// event), bins and draws what it lists (merged with the keys when `merge`), reads the counts
     /// back; grows the list or bins and does it again until they held all (drawing again is
-    /// harmless: atomic min, merged by min, or every key written again).
-    template <class Enqueue> void draw_sample(Frame& frame, Enqueue enqueue, bool merge);
+    /// harmless: atomic min, merged by min, or every key written again). `triangles`: the scene's
+    /// or the chunk's, which pick the binning (bin_listed).
+    template <class Enqueue> void draw_sample(Frame& frame, Enqueue enqueue, bool merge, std::size_t triangles);
     /// Sets the arguments of a setup kernel from `first` on: projected, cull, keys, the list,
     /// its capacity, the counters and the region (raster_setup.cl's order).
     void set_setup_outputs(cl::Kernel& k, cl_uint first, Frame& frame);
@@ -145,7 +157,9 @@ struct RasterPipeline::Impl {
     void render(const DeviceScene& scene, Frame& frame);
     /// Bins what setup listed (the count read on the device, the launch over the list's capacity):
     /// counts, scan, fill, within the bins' capacity.
-    void bin_listed(Frame& frame, int tiles_x, std::size_t tile_count);
+    /// Bins the sample's listed triangles (setup's, of a scene or chunk of `triangles`) into
+    /// tile_count tiles.
+    void bin_listed(Frame& frame, int tiles_x, std::size_t tile_count, std::size_t triangles);
     /// raster_fine.cl over every square, for the bins' entries from `first` (a chunk of them on a
     /// device that caps loops, all elsewhere); a launch after the first merges with the keys.
     void launch_fine(Frame& frame, int tiles_x, cl_ulong first, bool merge);

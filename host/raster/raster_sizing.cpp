@@ -18,6 +18,8 @@ namespace {
 constexpr int default_tile_log2 = 4;
 /// The probe's first capacities (set_raster_first_capacities; 0: the defaults).
 std::atomic<std::size_t> probe_tri_capacity{0}, probe_entry_capacity{0};
+/// The probe's choice of raster_bin_small (set_raster_small_frames; -1: the device's).
+std::atomic<int> probe_small_frames{-1};
 /// Bytes of host zeros that make_buffer writes a buffer from, a block at a time.
 constexpr std::size_t zero_block = std::size_t(1) << 20;
 
@@ -50,6 +52,8 @@ void set_raster_first_capacities(std::size_t triangles, std::size_t entries)
     probe_entry_capacity.store(entries);
 }
 
+void set_raster_small_frames(int use) { probe_small_frames.store(use < 0 ? -1 : use > 0 ? 1 : 0); }
+
 void RasterPipeline::Impl::pick_groups()
 {
     clear_group = std::min(linear_group, floor_pow2(granted(clear)));
@@ -59,6 +63,7 @@ void RasterPipeline::Impl::pick_groups()
     setup_group = std::min({linear_group, floor_pow2(granted(setup)), floor_pow2(granted(item_setup))});
     bin_group = std::min({linear_group, floor_pow2(granted(bin_count)), floor_pow2(granted(bin_fill))});
     scan_items = std::min(scan_group, floor_pow2(granted(bin_scan)));
+    small_group = std::min(small_frame_group, floor_pow2(granted(bin_small)));
     auto item_sizes = device.device.getInfo<CL_DEVICE_MAX_WORK_ITEM_SIZES>();
     std::size_t max_group = floor_pow2(granted(fine));
     if (pixel) {
@@ -82,6 +87,8 @@ void RasterPipeline::Impl::pick_groups()
 void RasterPipeline::Impl::plan_fine_chunks()
 {
     loop_limit = device.loop_limit();
+    int forced = probe_small_frames.load();
+    small_frames = forced >= 0 ? forced == 1 : device.cpu_hints() && loop_limit == Device::Impl::loop_unlimited;
     if (loop_limit == Device::Impl::loop_unlimited) return;
     std::uint32_t budget = loop_limit / 2;
     if (budget < CLVIS_FINE_TRIPS_FIXED + CLVIS_FINE_TRIPS_PER_ENTRY) // the larger of the two mappings'
