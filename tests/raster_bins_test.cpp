@@ -33,19 +33,35 @@ std::vector<std::uint64_t> keys(const Device& d, const Scene& s, const Camera& c
     return k;
 }
 
+/// A bundled mesh, the cameras the cases draw it from (framing, and a close-up from inside that
+/// clips), and the depth tests the device offers.
+struct Setting {
+    Scene scene;
+    std::vector<Camera> cameras;
+    std::vector<RasterAtomics> modes = {RasterAtomics::Off};
+};
+
+Setting setting(const Device& d, const char* mesh)
+{
+    Setting t;
+    t.scene.add_mesh(load_mesh(std::string(CLVIS_SOURCE_DIR) + "/scenes/" + mesh));
+    Bounds b = t.scene.bounds();
+    t.cameras = {Camera::framing(b),
+                 test::look(b.center() + Vec3{0.05, 0.1, 0.3}, b.center() + Vec3{0, 0, -1}, 90, 0.01, 10)};
+    if (d.info().int64_atomics) t.modes.push_back(RasterAtomics::On);
+    return t;
+}
+
 } // namespace
 
 TEST_CASE("lists and bins past their first capacity are grown and redrawn",
           "[device][raster][rusticl][rusticl_long]")
 {
     Device d = Device::open();
-    Scene s;
-    s.add_mesh(load_mesh(std::string(CLVIS_SOURCE_DIR) + "/scenes/spot.obj"));
-    Bounds b = s.bounds();
-    std::vector<RasterAtomics> modes = {RasterAtomics::Off};
-    if (d.info().int64_atomics) modes.push_back(RasterAtomics::On);
-    for (const Camera& c : {Camera::framing(b), test::look(b.center() + Vec3{0.05, 0.1, 0.3},
-                                                           b.center() + Vec3{0, 0, -1}, 90, 0.01, 10)}) {
+    Setting t = setting(d, "spot.obj");
+    const Scene& s = t.scene;
+    const std::vector<RasterAtomics>& modes = t.modes;
+    for (const Camera& c : t.cameras) {
         for (int samples : {1, 4}) {
             INFO(c.to_flags() << ", " << samples << " samples");
             std::vector<std::uint64_t> want = keys(d, s, c, RasterAtomics::Auto, samples);
@@ -63,22 +79,19 @@ TEST_CASE("lists and bins past their first capacity are grown and redrawn",
 TEST_CASE("small frames binned in one launch give the keys of the three launches", "[device][raster][rusticl]")
 {
     // raster_bin_small (one work-group: counts, offsets and entries) against raster_bin_count,
-    // raster_bin_scan and raster_bin_fill, forced either way on whatever device runs the tests:
-    // lists within its 4,096 triangles over up to 1,024 tiles, overflowing lists and bins included.
+    // raster_bin_scan and raster_bin_fill, forced either way on whatever device runs the tests
+    // (Suzanne's 968 triangles over 104 tiles: within the one launch's bound), overflowing lists
+    // and bins included.
     struct SmallFrames {
         explicit SmallFrames(int use) { detail::set_raster_small_frames(use); }
         ~SmallFrames() { detail::set_raster_small_frames(-1); }
     };
     Device d = Device::open();
-    Scene s;
-    s.add_mesh(load_mesh(std::string(CLVIS_SOURCE_DIR) + "/scenes/suzanne.obj"));
-    Bounds b = s.bounds();
-    std::vector<RasterAtomics> modes = {RasterAtomics::Off};
-    if (d.info().int64_atomics) modes.push_back(RasterAtomics::On);
-    for (const Camera& c : {Camera::framing(b), test::look(b.center() + Vec3{0.05, 0.1, 0.3},
-                                                           b.center() + Vec3{0, 0, -1}, 90, 0.01, 10)}) {
+    Setting t = setting(d, "suzanne.obj");
+    const Scene& s = t.scene;
+    for (const Camera& c : t.cameras) {
         for (int samples : {1, 4}) {
-            for (RasterAtomics mode : modes) {
+            for (RasterAtomics mode : t.modes) {
                 INFO(c.to_flags() << ", " << samples << " samples, " << to_string(mode));
                 std::vector<std::uint64_t> three, one, one_grown;
                 {
