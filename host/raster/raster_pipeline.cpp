@@ -244,6 +244,7 @@ void RasterPipeline::Impl::render(const DeviceScene& scene, Frame& frame)
 void RasterPipeline::Impl::bin_listed(Frame& frame, int tiles_x, std::size_t tile_count, std::size_t triangles)
 {
     cl_uint list_capacity = cl_uint(std::min<std::size_t>(tri_capacity, 0xFFFFFFFFu));
+    cl_uint bin_capacity = cl_uint(std::min<std::size_t>(entry_capacity, 0xFFFFFFFFu));
     if (small_frames && tile_count <= small_frame_tiles &&
         std::uint64_t(triangles) * tile_count <= small_frame_work) {
         // A small frame on PoCL's CPU device: one launch, one thread, instead of three launches
@@ -259,7 +260,7 @@ void RasterPipeline::Impl::bin_listed(Frame& frame, int tiles_x, std::size_t til
         bin_small.setArg(6, offsets);
         bin_small.setArg(7, counters);
         bin_small.setArg(8, entries);
-        bin_small.setArg(9, cl_uint(std::min<std::size_t>(entry_capacity, 0xFFFFFFFFu)));
+        bin_small.setArg(9, bin_capacity);
         bin_small.setArg(10, cl::Local(tile_count * sizeof(cl_uint)));
         frame.queue.enqueueNDRangeKernel(bin_small, cl::NullRange, cl::NDRange(small_group), cl::NDRange(small_group),
                                          nullptr, &binned);
@@ -298,7 +299,7 @@ void RasterPipeline::Impl::bin_listed(Frame& frame, int tiles_x, std::size_t til
     bin_fill.setArg(4, cl_int(tiles_x));
     bin_fill.setArg(5, cursors);
     bin_fill.setArg(6, entries);
-    bin_fill.setArg(7, cl_uint(std::min<std::size_t>(entry_capacity, 0xFFFFFFFFu)));
+    bin_fill.setArg(7, bin_capacity);
     frame.queue.enqueueNDRangeKernel(bin_fill, cl::NullRange, bin_global, bin_local, nullptr, &filled);
     frame.stages->add("bin", filled);
 }

@@ -155,10 +155,9 @@ struct RasterPipeline::Impl {
     bool owns_frame(const DeviceScene& scene, const Frame& frame) const;
     /// Every sample of `frame` for a scene without instances (the clear included unless owned).
     void render(const DeviceScene& scene, Frame& frame);
-    /// Bins what setup listed (the count read on the device, the launch over the list's capacity):
-    /// counts, scan, fill, within the bins' capacity.
-    /// Bins the sample's listed triangles (setup's, of a scene or chunk of `triangles`) into
-    /// tile_count tiles.
+    /// Bins what setup listed (the count read on the device, the launch over the list's capacity)
+    /// into tile_count tiles: counts, scan, fill, within the bins' capacity; in one launch
+    /// (raster_bin_small) for a small frame, by tile_count and the scene's or chunk's `triangles`.
     void bin_listed(Frame& frame, int tiles_x, std::size_t tile_count, std::size_t triangles);
     /// raster_fine.cl over every square, for the bins' entries from `first` (a chunk of them on a
     /// device that caps loops, all elsewhere); a launch after the first merges with the keys.
